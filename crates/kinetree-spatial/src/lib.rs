@@ -1,0 +1,50 @@
+//! # kinetree-spatial
+//!
+//! The bottom layer of kinetree: rigid transforms ([`Se3`]), rotations, 6D motion and force
+//! vectors ([`Motion`], [`Force`]) and spatial inertias ([`Inertia`], [`Symmetric3`]), all in `f64`
+//! on top of glam. Every other layer computes with these types; none of them allocates.
+//!
+//! ```
+//! use kinetree_spatial::{explog, Motion, Se3};
+//! use glam::DVec3;
+//! // A link 0.5 m along x, turned 90° about z: where does its tip (1, 0, 0) go?
+//! let world_from_link = Se3::new(Se3::from_rotation_z(std::f64::consts::FRAC_PI_2).rotation,
+//!                                DVec3::new(0.5, 0.0, 0.0));
+//! let tip = world_from_link.transform_point(DVec3::X);
+//! assert!((tip - DVec3::new(0.5, 1.0, 0.0)).length() < 1e-15);
+//! // The twist that moves the identity to that pose in unit time, and back.
+//! let twist: Motion = explog::log6(&world_from_link);
+//! assert!(explog::exp6(&twist).abs_diff_eq(&world_from_link, 1e-14, 1e-14));
+//! ```
+//!
+//! ## Conventions
+//! - SI units: metres, radians, kilograms, seconds.
+//! - Spatial vectors are ordered `[linear; angular]` (forces: `[force; torque]`).
+//!   [`Motion::to_featherstone`] and friends convert to Featherstone's `[angular; linear]`.
+//! - Transforms are named `a_from_b`: `p_a = a_from_b.transform_point(p_b)`, composition
+//!   `a_from_c = a_from_b * b_from_c`. `Se3::act_motion` / `act_force` express a vector given in
+//!   `b` in frame `a`; `act_inv_*` go the other way.
+//! - Quaternions (glam `DQuat`) are stored x, y, z, w.
+//! - URDF roll-pitch-yaw is about fixed axes: `R = Rz(yaw)·Ry(pitch)·Rx(roll)`.
+//!
+//! ## Errors
+//! This crate is pure maths and has no error type: functions document their preconditions
+//! (for example that a rotation matrix is orthonormal), and the `*_checked` constructors return an
+//! `Option` or a `Result` for data coming from outside.
+//!
+//! ## Optional cargo features
+//! - `serde`: `Serialize`/`Deserialize` for the value types.
+
+pub mod explog;
+mod inertia;
+mod motion;
+pub mod rotation;
+mod se3;
+mod symmetric3;
+
+pub use glam;
+pub use glam::{DMat3, DMat4, DQuat, DVec3};
+pub use inertia::Inertia;
+pub use motion::{Force, Motion};
+pub use se3::Se3;
+pub use symmetric3::{InertiaDefect, Symmetric3};

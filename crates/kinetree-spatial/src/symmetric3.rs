@@ -1,0 +1,386 @@
+//! Symmetric 3x3 matrices, used for rotational inertia tensors.
+
+use core::fmt;
+use core::ops::{Add, AddAssign, Mul, Sub};
+use glam::{DMat3, DVec3};
+
+/// A symmetric 3x3 matrix stored as its six independent entries.
+///
+/// Used for rotational inertia tensors (kg·m²). The entries follow URDF's names: `ixx, ixy, ixz,
+/// iyy, iyz, izz` are the matrix entries (products of inertia enter with their sign as written in
+/// URDF, i.e. `ixy` is the (0, 1) entry of the tensor).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[doc(alias = "InertiaTensor")]
+pub struct Symmetric3 {
+    /// Entry (0, 0).
+    pub xx: f64,
+    /// Entry (0, 1) = (1, 0).
+    pub xy: f64,
+    /// Entry (0, 2) = (2, 0).
+    pub xz: f64,
+    /// Entry (1, 1).
+    pub yy: f64,
+    /// Entry (1, 2) = (2, 1).
+    pub yz: f64,
+    /// Entry (2, 2).
+    pub zz: f64,
+}
+
+/// Why a rotational inertia is not physically valid (see [`Symmetric3::check_inertia`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum InertiaDefect {
+    /// An entry is NaN or infinite.
+    NonFinite,
+    /// A 3x3 input was not symmetric: the largest asymmetry `|A_ij - A_ji|` is given.
+    NotSymmetric {
+        /// The largest `|A_ij - A_ji|`.
+        asymmetry: f64,
+    },
+    /// A principal moment is negative (or not positive when strict).
+    NotPositive {
+        /// The smallest principal moment.
+        smallest_moment: f64,
+    },
+    /// The principal moments violate the triangle inequality `I1 + I2 >= I3`.
+    TriangleInequality {
+        /// The principal moments, ascending.
+        moments: [f64; 3],
+    },
+}
+
+impl fmt::Display for InertiaDefect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NonFinite => write!(f, "an inertia entry is not finite"),
+            Self::NotSymmetric { asymmetry } => {
+                write!(
+                    f,
+                    "inertia matrix is not symmetric (asymmetry {asymmetry:e})"
+                )
+            }
+            Self::NotPositive { smallest_moment } => {
+                write!(
+                    f,
+                    "inertia is not positive semi-definite (principal moment {smallest_moment:e})"
+                )
+            }
+            Self::TriangleInequality { moments } => write!(
+                f,
+                "principal moments {:e}, {:e}, {:e} violate the triangle inequality",
+                moments[0], moments[1], moments[2]
+            ),
+        }
+    }
+}
+
+impl std::error::Error for InertiaDefect {}
+
+impl Symmetric3 {
+    /// The zero matrix.
+    pub const ZERO: Self = Self {
+        xx: 0.0,
+        xy: 0.0,
+        xz: 0.0,
+        yy: 0.0,
+        yz: 0.0,
+        zz: 0.0,
+    };
+    /// The identity matrix.
+    pub const IDENTITY: Self = Self {
+        xx: 1.0,
+        xy: 0.0,
+        xz: 0.0,
+        yy: 1.0,
+        yz: 0.0,
+        zz: 1.0,
+    };
+
+    /// From the six entries in URDF order `(ixx, ixy, ixz, iyy, iyz, izz)`.
+    #[inline]
+    #[must_use]
+    pub const fn new(xx: f64, xy: f64, xz: f64, yy: f64, yz: f64, zz: f64) -> Self {
+        Self {
+            xx,
+            xy,
+            xz,
+            yy,
+            yz,
+            zz,
+        }
+    }
+
+    /// A diagonal matrix.
+    #[inline]
+    #[must_use]
+    pub const fn from_diagonal(d: DVec3) -> Self {
+        Self::new(d.x, 0.0, 0.0, d.y, 0.0, d.z)
+    }
+
+    /// The six entries in URDF order `[ixx, ixy, ixz, iyy, iyz, izz]`.
+    #[inline]
+    #[must_use]
+    pub const fn to_urdf_array(&self) -> [f64; 6] {
+        [self.xx, self.xy, self.xz, self.yy, self.yz, self.zz]
+    }
+
+    /// From Voigt order `[ixx, iyy, izz, iyz, ixz, ixy]`.
+    #[inline]
+    #[must_use]
+    pub const fn from_voigt(v: [f64; 6]) -> Self {
+        Self::new(v[0], v[5], v[4], v[1], v[3], v[2])
+    }
+
+    /// The entries in Voigt order `[ixx, iyy, izz, iyz, ixz, ixy]`.
+    #[inline]
+    #[must_use]
+    pub const fn to_voigt(&self) -> [f64; 6] {
+        [self.xx, self.yy, self.zz, self.yz, self.xz, self.xy]
+    }
+
+    /// From a 3x3 matrix, or the asymmetry defect when `|A_ij - A_ji| > tolerance` for some pair.
+    ///
+    /// # Errors
+    /// [`InertiaDefect::NotSymmetric`] or [`InertiaDefect::NonFinite`].
+    pub fn from_mat3_checked(m: &DMat3, tolerance: f64) -> Result<Self, InertiaDefect> {
+        if !m.is_finite() {
+            return Err(InertiaDefect::NonFinite);
+        }
+        let asymmetry = (m.y_axis.x - m.x_axis.y)
+            .abs()
+            .max((m.z_axis.x - m.x_axis.z).abs())
+            .max((m.z_axis.y - m.y_axis.z).abs());
+        if asymmetry > tolerance {
+            return Err(InertiaDefect::NotSymmetric { asymmetry });
+        }
+        Ok(Self::from_mat3(m))
+    }
+
+    /// From a 3x3 matrix, symmetrizing it (`(A + Aᵀ)/2`).
+    #[inline]
+    #[must_use]
+    pub fn from_mat3(m: &DMat3) -> Self {
+        Self::new(
+            m.x_axis.x,
+            0.5 * (m.y_axis.x + m.x_axis.y),
+            0.5 * (m.z_axis.x + m.x_axis.z),
+            m.y_axis.y,
+            0.5 * (m.z_axis.y + m.y_axis.z),
+            m.z_axis.z,
+        )
+    }
+
+    /// The full 3x3 matrix.
+    #[inline]
+    #[must_use]
+    pub fn to_mat3(&self) -> DMat3 {
+        DMat3::from_cols(
+            DVec3::new(self.xx, self.xy, self.xz),
+            DVec3::new(self.xy, self.yy, self.yz),
+            DVec3::new(self.xz, self.yz, self.zz),
+        )
+    }
+
+    /// The product with a vector.
+    #[inline]
+    #[must_use]
+    pub fn mul_vec3(&self, v: DVec3) -> DVec3 {
+        DVec3::new(
+            self.xx * v.x + self.xy * v.y + self.xz * v.z,
+            self.xy * v.x + self.yy * v.y + self.yz * v.z,
+            self.xz * v.x + self.yz * v.y + self.zz * v.z,
+        )
+    }
+
+    /// `R · self · Rᵀ`: the same tensor expressed in a frame rotated by `r`.
+    #[inline]
+    #[must_use]
+    pub fn rotate(&self, r: &DMat3) -> Self {
+        Self::from_mat3(&(*r * self.to_mat3() * r.transpose()))
+    }
+
+    /// `Rᵀ · self · R`.
+    #[inline]
+    #[must_use]
+    pub fn rotate_inv(&self, r: &DMat3) -> Self {
+        Self::from_mat3(&(r.transpose() * self.to_mat3() * *r))
+    }
+
+    /// `[v]×ᵀ [v]× = |v|² I - v vᵀ`: the parallel-axis term for a unit mass at offset `v`.
+    #[inline]
+    #[must_use]
+    pub fn skew_square(v: DVec3) -> Self {
+        let (x, y, z) = (v.x, v.y, v.z);
+        Self::new(
+            y * y + z * z,
+            -x * y,
+            -x * z,
+            x * x + z * z,
+            -y * z,
+            x * x + y * y,
+        )
+    }
+
+    /// The trace.
+    #[inline]
+    #[must_use]
+    pub fn trace(&self) -> f64 {
+        self.xx + self.yy + self.zz
+    }
+
+    /// Whether every entry is finite.
+    #[inline]
+    #[must_use]
+    pub fn is_finite(&self) -> bool {
+        self.to_urdf_array().iter().all(|x| x.is_finite())
+    }
+
+    /// The eigenvalues, ascending (closed form for symmetric 3x3 matrices).
+    #[must_use]
+    pub fn eigenvalues(&self) -> [f64; 3] {
+        let p1 = self.xy * self.xy + self.xz * self.xz + self.yz * self.yz;
+        let q = self.trace() / 3.0;
+        if p1 <= f64::EPSILON * f64::EPSILON * (q * q).max(f64::MIN_POSITIVE) {
+            let mut e = [self.xx, self.yy, self.zz];
+            e.sort_by(f64::total_cmp);
+            return e;
+        }
+        let p2 = (self.xx - q).powi(2) + (self.yy - q).powi(2) + (self.zz - q).powi(2) + 2.0 * p1;
+        let p = (p2 / 6.0).sqrt();
+        let b = (self.to_mat3() - DMat3::IDENTITY * q) * (1.0 / p);
+        let r = (b.determinant() / 2.0).clamp(-1.0, 1.0);
+        let phi = r.acos() / 3.0;
+        let e_max = q + 2.0 * p * phi.cos();
+        let e_min = q + 2.0 * p * (phi + 2.0 * core::f64::consts::PI / 3.0).cos();
+        let e_mid = 3.0 * q - e_max - e_min;
+        [e_min, e_mid, e_max]
+    }
+
+    /// Checks that this is a physically valid rotational inertia about the centre of mass:
+    /// finite, positive semi-definite and with principal moments satisfying the triangle
+    /// inequality (all within a relative `tolerance` of the largest moment).
+    ///
+    /// # Errors
+    /// The first defect found.
+    pub fn check_inertia(&self, tolerance: f64) -> Result<(), InertiaDefect> {
+        if !self.is_finite() {
+            return Err(InertiaDefect::NonFinite);
+        }
+        let e = self.eigenvalues();
+        let scale = e[2].abs().max(f64::MIN_POSITIVE);
+        if e[0] < -tolerance * scale {
+            return Err(InertiaDefect::NotPositive {
+                smallest_moment: e[0],
+            });
+        }
+        if e[0] + e[1] < e[2] - tolerance * scale {
+            return Err(InertiaDefect::TriangleInequality { moments: e });
+        }
+        Ok(())
+    }
+}
+
+impl Add for Symmetric3 {
+    type Output = Self;
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        Self::new(
+            self.xx + o.xx,
+            self.xy + o.xy,
+            self.xz + o.xz,
+            self.yy + o.yy,
+            self.yz + o.yz,
+            self.zz + o.zz,
+        )
+    }
+}
+
+impl AddAssign for Symmetric3 {
+    #[inline]
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
+}
+
+impl Sub for Symmetric3 {
+    type Output = Self;
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        self + o * -1.0
+    }
+}
+
+impl Mul<f64> for Symmetric3 {
+    type Output = Self;
+    #[inline]
+    fn mul(self, s: f64) -> Self {
+        Self::new(
+            self.xx * s,
+            self.xy * s,
+            self.xz * s,
+            self.yy * s,
+            self.yz * s,
+            self.zz * s,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn voigt_and_urdf_orders() {
+        let s = Symmetric3::new(1.0, 0.1, 0.2, 2.0, 0.3, 3.0);
+        assert_eq!(s.to_voigt(), [1.0, 2.0, 3.0, 0.3, 0.2, 0.1]);
+        assert_eq!(Symmetric3::from_voigt(s.to_voigt()), s);
+        assert_eq!(s.to_urdf_array(), [1.0, 0.1, 0.2, 2.0, 0.3, 3.0]);
+        assert_eq!(Symmetric3::from_mat3(&s.to_mat3()), s);
+        let v = DVec3::new(0.5, -1.0, 2.0);
+        assert!((s.mul_vec3(v) - s.to_mat3() * v).length() < 1e-15);
+    }
+
+    #[test]
+    fn eigenvalues_of_rotated_diagonal() {
+        let d = Symmetric3::from_diagonal(DVec3::new(3.0, 1.0, 2.0));
+        let r = crate::rotation::from_rpy(0.3, 0.7, -1.1);
+        let e = d.rotate(&r).eigenvalues();
+        for (x, y) in e.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((x - y).abs() < 1e-13, "{e:?}");
+        }
+    }
+
+    #[test]
+    fn validity_check_reports_the_defect() {
+        assert!(
+            Symmetric3::from_diagonal(DVec3::new(1.0, 1.0, 1.0))
+                .check_inertia(1e-9)
+                .is_ok()
+        );
+        // A thin rod: I1 + I2 = I3 exactly is still valid.
+        assert!(
+            Symmetric3::from_diagonal(DVec3::new(0.0, 1.0, 1.0))
+                .check_inertia(1e-9)
+                .is_ok()
+        );
+        assert!(matches!(
+            Symmetric3::from_diagonal(DVec3::new(-1.0, 2.0, 2.0)).check_inertia(1e-9),
+            Err(InertiaDefect::NotPositive { .. })
+        ));
+        assert!(matches!(
+            Symmetric3::from_diagonal(DVec3::new(1.0, 1.0, 5.0)).check_inertia(1e-9),
+            Err(InertiaDefect::TriangleInequality { .. })
+        ));
+        assert_eq!(
+            Symmetric3::new(f64::NAN, 0.0, 0.0, 1.0, 0.0, 1.0).check_inertia(1e-9),
+            Err(InertiaDefect::NonFinite)
+        );
+        let mut m = DMat3::IDENTITY;
+        m.y_axis.x = 0.5;
+        assert!(matches!(
+            Symmetric3::from_mat3_checked(&m, 1e-12),
+            Err(InertiaDefect::NotSymmetric { .. })
+        ));
+    }
+}

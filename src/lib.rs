@@ -1,0 +1,2 @@
+//! kinetree facade (placeholder while the layers are built).
+pub use kinetree_spatial as spatial;
