@@ -1,0 +1,767 @@
+//! [`ModelBuilder`]: the one place where a [`Model`]'s invariants are established.
+
+use crate::error::{Issue, ItemKind, ModelError};
+use crate::frame::Frame;
+use crate::joint::{Joint, JointDynamics, JointKind, JointLimits, Mimic};
+use crate::link::{Geometry, Link};
+use crate::model::{Body, Model, ROOT_JOINT_NAME, RootJoint};
+use glam::DVec3;
+use kinetree_spatial::{Inertia, InertiaDefect, Se3, rotation};
+use std::collections::HashMap;
+
+/// Relative tolerance of the physical-validity check on link inertias (relative to the largest
+/// principal moment).
+pub const INERTIA_TOLERANCE: f64 = 1e-6;
+
+/// What to do with a rotational inertia that is not physically valid (not positive
+/// semi-definite, or principal moments violating the triangle inequality).
+///
+/// Negative masses and non-finite values are always errors. Real robot descriptions often carry
+/// slightly impossible tensors (rounded CAD exports, placeholder values on tiny links), which
+/// Pinocchio accepts; the default therefore keeps them and reports them in [`Model::warnings`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum InertiaCheck {
+    /// Keep the model and list each defect in [`Model::warnings`].
+    #[default]
+    Warn,
+    /// Reject the model with [`Issue::InvalidInertia`].
+    Strict,
+}
+
+/// A joint as the builder receives it: links referred to by name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointSpec {
+    /// Unique name.
+    pub name: String,
+    /// Kind.
+    pub kind: JointKind,
+    /// Parent link name.
+    pub parent: String,
+    /// Child link name.
+    pub child: String,
+    /// Optional named frame on the parent link that `placement` is relative to (yapCAD's
+    /// "parent frame the part attaches to"). `None` means the parent link's own frame.
+    pub parent_frame: Option<String>,
+    /// Pose of the joint frame relative to the parent link (or `parent_frame`) at zero configuration.
+    pub placement: Se3,
+    /// Axis in the joint frame (normalized by the builder; must be nonzero for kinds with an axis).
+    pub axis: DVec3,
+    /// Limits.
+    pub limits: JointLimits,
+    /// Damping, friction, armature.
+    pub dynamics: JointDynamics,
+    /// Mimic coupling.
+    pub mimic: Option<Mimic>,
+}
+
+impl JointSpec {
+    /// A joint of `kind` from `parent` to `child` at the identity, axis z, no limits.
+    #[must_use]
+    pub fn new(
+        name: impl Into<String>,
+        kind: JointKind,
+        parent: impl Into<String>,
+        child: impl Into<String>,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            kind,
+            parent: parent.into(),
+            child: child.into(),
+            parent_frame: None,
+            placement: Se3::IDENTITY,
+            axis: DVec3::Z,
+            limits: JointLimits::UNLIMITED,
+            dynamics: JointDynamics::default(),
+            mimic: None,
+        }
+    }
+
+    /// Sets the placement (pose of the joint frame in the parent frame at zero configuration).
+    #[must_use]
+    pub fn with_placement(mut self, placement: Se3) -> Self {
+        self.placement = placement;
+        self
+    }
+
+    /// Sets the axis.
+    #[must_use]
+    pub fn with_axis(mut self, axis: DVec3) -> Self {
+        self.axis = axis;
+        self
+    }
+
+    /// Sets the limits.
+    #[must_use]
+    pub fn with_limits(mut self, limits: JointLimits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// Sets damping, friction and armature.
+    #[must_use]
+    pub fn with_dynamics(mut self, dynamics: JointDynamics) -> Self {
+        self.dynamics = dynamics;
+        self
+    }
+
+    /// Makes the joint follow `leader`: `q = multiplier · q_leader + offset`.
+    #[must_use]
+    pub fn with_mimic(mut self, leader: impl Into<String>, multiplier: f64, offset: f64) -> Self {
+        self.mimic = Some(Mimic {
+            joint: leader.into(),
+            multiplier,
+            offset,
+        });
+        self
+    }
+
+    /// Attaches the joint to a named frame of the parent link instead of the link's own frame.
+    #[must_use]
+    pub fn at_frame(mut self, frame: impl Into<String>) -> Self {
+        self.parent_frame = Some(frame.into());
+        self
+    }
+}
+
+/// A named frame as the builder receives it: its link referred to by name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameSpec {
+    /// Unique name.
+    pub name: String,
+    /// Link name.
+    pub link: String,
+    /// Pose in the link frame.
+    pub placement: Se3,
+    /// Free-text description.
+    pub description: Option<String>,
+    /// `(file, datum)` when the placement was read from an external datum file.
+    pub datum: Option<(String, String)>,
+}
+
+impl FrameSpec {
+    /// A frame on `link` at `placement`.
+    #[must_use]
+    pub fn new(name: impl Into<String>, link: impl Into<String>, placement: Se3) -> Self {
+        Self {
+            name: name.into(),
+            link: link.into(),
+            placement,
+            description: None,
+            datum: None,
+        }
+    }
+
+    /// Sets the description.
+    #[must_use]
+    pub fn with_description(mut self, description: impl Into<String>) -> Self {
+        self.description = Some(description.into());
+        self
+    }
+}
+
+/// Collects links, joints and frames, then validates everything at once in [`ModelBuilder::build`].
+///
+/// # Examples
+/// ```
+/// use kinetree_model::{JointKind, JointLimits, JointSpec, Link, ModelBuilder, FrameSpec};
+/// use kinetree_spatial::{Se3, Symmetric3};
+/// use glam::DVec3;
+/// # fn main() -> Result<(), kinetree_model::ModelError> {
+/// let mut b = ModelBuilder::new("arm");
+/// b.add_link(Link::new("base"));
+/// b.add_link(Link::new("upper").with_mass(1.0, DVec3::new(0.5, 0.0, 0.0), Symmetric3::from_diagonal(DVec3::splat(0.01))));
+/// b.add_joint(
+///     JointSpec::new("shoulder", JointKind::Revolute, "base", "upper")
+///         .with_axis(DVec3::Z)
+///         .with_limits(JointLimits::position(-1.5, 1.5)),
+/// );
+/// b.add_frame(FrameSpec::new("tip", "upper", Se3::from_translation(DVec3::X)));
+/// let model = b.build()?;
+/// assert_eq!((model.nq(), model.nv()), (1, 1));
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct ModelBuilder {
+    name: String,
+    links: Vec<Link>,
+    joints: Vec<JointSpec>,
+    frames: Vec<FrameSpec>,
+    root_joint: RootJoint,
+    gravity: Option<DVec3>,
+    ignored: Vec<String>,
+    inertia_check: InertiaCheck,
+}
+
+impl ModelBuilder {
+    /// An empty builder for a model called `name`.
+    #[must_use]
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            ..Self::default()
+        }
+    }
+
+    /// Adds a link (part).
+    pub fn add_link(&mut self, link: Link) -> &mut Self {
+        self.links.push(link);
+        self
+    }
+
+    /// Adds a joint.
+    pub fn add_joint(&mut self, joint: JointSpec) -> &mut Self {
+        self.joints.push(joint);
+        self
+    }
+
+    /// Adds a part and the joint attaching it to its parent in one call (yapCAD's `add_part`).
+    pub fn add_part(&mut self, link: Link, joint: JointSpec) -> &mut Self {
+        self.add_link(link);
+        self.add_joint(joint)
+    }
+
+    /// Adds a named frame.
+    pub fn add_frame(&mut self, frame: FrameSpec) -> &mut Self {
+        self.frames.push(frame);
+        self
+    }
+
+    /// Chooses how the root link is attached to the world (default: fixed).
+    pub fn root_joint(&mut self, root: RootJoint) -> &mut Self {
+        self.root_joint = root;
+        self
+    }
+
+    /// Chooses whether physically invalid inertias are errors or warnings (default: warnings).
+    pub fn inertia_check(&mut self, check: InertiaCheck) -> &mut Self {
+        self.inertia_check = check;
+        self
+    }
+
+    /// Sets gravity in the world frame (default `[0, 0, -9.81]`).
+    pub fn gravity(&mut self, gravity: DVec3) -> &mut Self {
+        self.gravity = Some(gravity);
+        self
+    }
+
+    /// Records a source element that the model does not represent (reported by
+    /// [`Model::ignored`]).
+    pub fn note_ignored(&mut self, what: impl Into<String>) -> &mut Self {
+        self.ignored.push(what.into());
+        self
+    }
+
+    /// Validates and builds the model.
+    ///
+    /// # Errors
+    /// [`ModelError::Invalid`] listing every problem found: unknown or duplicate names, several
+    /// roots, cycles, zero or non-finite axes, `lower > upper`, NaN/∞ anywhere, physically invalid
+    /// inertias, unknown mimic targets and parent frames.
+    pub fn build(&self) -> Result<Model, ModelError> {
+        let mut issues = Vec::new();
+        if self.links.is_empty() {
+            issues.push(Issue::Empty);
+            return Err(self.invalid(issues));
+        }
+
+        let link_names = unique_names(
+            self.links.iter().map(|l| l.name.as_str()),
+            ItemKind::Link,
+            &mut issues,
+        );
+        let joint_names = unique_names(
+            self.joints.iter().map(|j| j.name.as_str()),
+            ItemKind::Joint,
+            &mut issues,
+        );
+        let frame_names = unique_names(
+            self.frames.iter().map(|f| f.name.as_str()),
+            ItemKind::Frame,
+            &mut issues,
+        );
+        if self.root_joint == RootJoint::Floating && joint_names.contains_key(ROOT_JOINT_NAME) {
+            issues.push(Issue::InvalidRootJoint {
+                joint: ROOT_JOINT_NAME.into(),
+                reason: "the name is reserved for the floating root joint".into(),
+            });
+        }
+
+        let mut warnings = Vec::new();
+        for link in &self.links {
+            check_link(link, &mut issues, &mut warnings);
+        }
+        if self.inertia_check == InertiaCheck::Strict {
+            issues.append(&mut warnings);
+        }
+        for frame in &self.frames {
+            if !link_names.contains_key(&frame.link) {
+                issues.push(Issue::UnknownFrameLink {
+                    frame: frame.name.clone(),
+                    link: frame.link.clone(),
+                });
+            }
+            check_placement(&frame.placement, ItemKind::Frame, &frame.name, &mut issues);
+        }
+
+        // Joints: references, axes, limits, placements.
+        let mut parent_joint: Vec<Vec<usize>> = vec![Vec::new(); self.links.len()];
+        for (ji, j) in self.joints.iter().enumerate() {
+            let parent = link_names.get(&j.parent).copied();
+            if parent.is_none() {
+                issues.push(Issue::UnknownParent {
+                    joint: j.name.clone(),
+                    link: j.parent.clone(),
+                });
+            }
+            match link_names.get(&j.child) {
+                Some(&c) => parent_joint[c].push(ji),
+                None => issues.push(Issue::UnknownChild {
+                    joint: j.name.clone(),
+                    link: j.child.clone(),
+                }),
+            }
+            if let Some(frame) = &j.parent_frame {
+                let on_parent = frame_names
+                    .get(frame)
+                    .is_some_and(|&f| self.frames[f].link == j.parent);
+                if !on_parent {
+                    issues.push(Issue::UnknownParentFrame {
+                        joint: j.name.clone(),
+                        frame: frame.clone(),
+                        link: j.parent.clone(),
+                    });
+                }
+            }
+            check_placement(&j.placement, ItemKind::Joint, &j.name, &mut issues);
+            if j.kind.has_axis() && !(j.axis.is_finite() && j.axis.length_squared() > 1e-24) {
+                issues.push(Issue::InvalidAxis {
+                    joint: j.name.clone(),
+                    axis: j.axis.to_array(),
+                });
+            }
+            let l = &j.limits;
+            if l.lower.is_nan() || l.upper.is_nan() {
+                issues.push(Issue::NonFinite {
+                    kind: ItemKind::Joint,
+                    name: j.name.clone(),
+                    what: "position limit",
+                });
+            } else if l.lower > l.upper {
+                issues.push(Issue::InvalidLimits {
+                    joint: j.name.clone(),
+                    lower: l.lower,
+                    upper: l.upper,
+                });
+            }
+            if l.velocity.is_nan() || l.effort.is_nan() {
+                issues.push(Issue::NonFinite {
+                    kind: ItemKind::Joint,
+                    name: j.name.clone(),
+                    what: "velocity or effort limit",
+                });
+            }
+            let d = &j.dynamics;
+            if !(d.damping.is_finite() && d.friction.is_finite() && d.armature.is_finite()) {
+                issues.push(Issue::NonFinite {
+                    kind: ItemKind::Joint,
+                    name: j.name.clone(),
+                    what: "damping, friction or armature",
+                });
+            }
+            if let Some(m) = &j.mimic {
+                match joint_names.get(&m.joint) {
+                    None => issues.push(Issue::UnknownMimicTarget {
+                        joint: j.name.clone(),
+                        target: m.joint.clone(),
+                    }),
+                    Some(&leader) if leader == ji => issues.push(Issue::InvalidMimic {
+                        joint: j.name.clone(),
+                        reason: "a joint cannot mimic itself".into(),
+                    }),
+                    Some(&leader) if self.joints[leader].kind.nv() != 1 || j.kind.nv() != 1 => {
+                        issues.push(Issue::InvalidMimic {
+                            joint: j.name.clone(),
+                            reason: format!(
+                                "mimic couples 1-DoF joints; '{}' is {} and '{}' is {}",
+                                j.name, j.kind, m.joint, self.joints[leader].kind
+                            ),
+                        });
+                    }
+                    Some(_) => {}
+                }
+                if !(m.multiplier.is_finite() && m.offset.is_finite()) {
+                    issues.push(Issue::NonFinite {
+                        kind: ItemKind::Joint,
+                        name: j.name.clone(),
+                        what: "mimic multiplier or offset",
+                    });
+                }
+            }
+        }
+
+        // Topology: one parent per link, exactly one root, no cycle.
+        for (li, joints) in parent_joint.iter().enumerate() {
+            if joints.len() > 1 {
+                issues.push(Issue::MultipleParents {
+                    link: self.links[li].name.clone(),
+                    joints: joints
+                        .iter()
+                        .map(|&j| self.joints[j].name.clone())
+                        .collect(),
+                });
+            }
+        }
+        let roots: Vec<usize> = (0..self.links.len())
+            .filter(|&l| parent_joint[l].is_empty())
+            .collect();
+        match roots.len() {
+            0 => issues.push(Issue::NoRoot),
+            1 => {}
+            _ => issues.push(Issue::MultipleRoots {
+                links: roots.iter().map(|&l| self.links[l].name.clone()).collect(),
+            }),
+        }
+        // Child joints per link in declaration order (only joints whose ends both exist).
+        let mut child_joints: Vec<Vec<usize>> = vec![Vec::new(); self.links.len()];
+        for (ji, j) in self.joints.iter().enumerate() {
+            if let (Some(&p), Some(_)) = (link_names.get(&j.parent), link_names.get(&j.child)) {
+                child_joints[p].push(ji);
+            }
+        }
+        // Depth-first traversal from the root; links never reached lie on cycles.
+        let mut link_order = Vec::with_capacity(self.links.len());
+        let mut joint_order = Vec::with_capacity(self.joints.len());
+        if let Some(&root) = roots.first() {
+            let mut seen = vec![false; self.links.len()];
+            let mut stack = vec![(root, None::<usize>)];
+            while let Some((l, via)) = stack.pop() {
+                if seen[l] {
+                    continue;
+                }
+                seen[l] = true;
+                link_order.push(l);
+                if let Some(j) = via {
+                    joint_order.push(j);
+                }
+                for &j in child_joints[l].iter().rev() {
+                    let c = link_names[&self.joints[j].child];
+                    stack.push((c, Some(j)));
+                }
+            }
+            if roots.len() == 1
+                && issues
+                    .iter()
+                    .all(|i| !matches!(i, Issue::MultipleParents { .. }))
+            {
+                let mut reported = vec![false; self.links.len()];
+                for l in 0..self.links.len() {
+                    if !seen[l] && !reported[l] {
+                        // Mark the whole unreached component so each cycle is reported once.
+                        let mut x = l;
+                        while !reported[x] {
+                            reported[x] = true;
+                            match parent_joint[x]
+                                .first()
+                                .and_then(|&j| link_names.get(&self.joints[j].parent))
+                            {
+                                Some(&p) => x = p,
+                                None => break,
+                            }
+                        }
+                        issues.push(Issue::Cycle {
+                            link: self.links[l].name.clone(),
+                        });
+                    }
+                }
+            }
+        } else if !self.joints.is_empty() && issues.iter().any(|i| matches!(i, Issue::NoRoot)) {
+            issues.push(Issue::Cycle {
+                link: self.links[0].name.clone(),
+            });
+        }
+
+        if !issues.is_empty() {
+            return Err(self.invalid(issues));
+        }
+        let mut model = self.assemble(&link_order, &joint_order, &link_names, &frame_names);
+        model.warnings = warnings;
+        Ok(model)
+    }
+
+    fn invalid(&self, issues: Vec<Issue>) -> ModelError {
+        ModelError::Invalid {
+            model: self.name.clone(),
+            issues,
+        }
+    }
+
+    /// Builds the model from validated input in depth-first order.
+    fn assemble(
+        &self,
+        link_order: &[usize],
+        joint_order: &[usize],
+        link_names_in: &HashMap<String, usize>,
+        frame_names_in: &HashMap<String, usize>,
+    ) -> Model {
+        let floating = self.root_joint == RootJoint::Floating;
+        // New link index of each input link.
+        let mut new_link = vec![0usize; self.links.len()];
+        for (new, &old) in link_order.iter().enumerate() {
+            new_link[old] = new;
+        }
+        let links: Vec<Link> = link_order.iter().map(|&l| self.links[l].clone()).collect();
+        let mut joints = Vec::with_capacity(joint_order.len() + usize::from(floating));
+        if floating {
+            joints.push(Joint {
+                name: ROOT_JOINT_NAME.into(),
+                kind: JointKind::Floating,
+                parent_link: None,
+                child_link: 0,
+                placement: Se3::IDENTITY,
+                axis: DVec3::X,
+                limits: JointLimits::UNLIMITED,
+                dynamics: JointDynamics::default(),
+                mimic: None,
+            });
+        }
+        for &ji in joint_order {
+            let s = &self.joints[ji];
+            let mut placement = s.placement;
+            if let Some(frame) = &s.parent_frame {
+                placement = self.frames[frame_names_in[frame]].placement * placement;
+            }
+            let axis = if s.kind.has_axis() {
+                s.axis.normalize()
+            } else {
+                s.axis
+            };
+            let mut limits = s.limits;
+            if s.kind == JointKind::Continuous {
+                limits.lower = f64::NEG_INFINITY;
+                limits.upper = f64::INFINITY;
+            }
+            joints.push(Joint {
+                name: s.name.clone(),
+                kind: s.kind,
+                parent_link: Some(new_link[link_names_in[&s.parent]]),
+                child_link: new_link[link_names_in[&s.child]],
+                placement,
+                axis,
+                limits,
+                dynamics: s.dynamics,
+                mimic: s.mimic.clone(),
+            });
+        }
+        let frames: Vec<Frame> = self
+            .frames
+            .iter()
+            .map(|f| Frame {
+                name: f.name.clone(),
+                link: new_link[link_names_in[&f.link]],
+                placement: f.placement,
+                description: f.description.clone(),
+                datum: f.datum.clone(),
+            })
+            .collect();
+
+        let nl = links.len();
+        let mut link_parent_joint = vec![None; nl];
+        let mut link_child_joints = vec![Vec::new(); nl];
+        for (ji, j) in joints.iter().enumerate() {
+            link_parent_joint[j.child_link] = Some(ji);
+            if let Some(p) = j.parent_link {
+                link_child_joints[p].push(ji);
+            }
+        }
+
+        // Bodies: body 0 is the world; each moving joint starts a body. Joints are depth-first,
+        // so a joint's parent link (and thus its parent body) is already placed.
+        let mut bodies = vec![Body {
+            joint: None,
+            parent: 0,
+            placement: Se3::IDENTITY,
+            kind: JointKind::Fixed,
+            axis: DVec3::X,
+            idx_q: 0,
+            idx_v: 0,
+            nq: 0,
+            nv: 0,
+            inertia: Inertia::ZERO,
+            subtree_end: 1,
+        }];
+        let mut link_body = vec![0usize; nl];
+        let mut body_from_link = vec![Se3::IDENTITY; nl];
+        let mut joint_body = vec![None; joints.len()];
+        let (mut nq, mut nv) = (0, 0);
+        for (ji, j) in joints.iter().enumerate() {
+            let (pb, pb_from_parent) = match j.parent_link {
+                Some(p) => (link_body[p], body_from_link[p]),
+                None => (0, Se3::IDENTITY),
+            };
+            let c = j.child_link;
+            if j.kind.is_moving() {
+                let b = bodies.len();
+                bodies.push(Body {
+                    joint: Some(ji),
+                    parent: pb,
+                    placement: pb_from_parent * j.placement,
+                    kind: j.kind,
+                    axis: j.axis,
+                    idx_q: nq,
+                    idx_v: nv,
+                    nq: j.kind.nq(),
+                    nv: j.kind.nv(),
+                    inertia: Inertia::ZERO,
+                    subtree_end: b + 1,
+                });
+                nq += j.kind.nq();
+                nv += j.kind.nv();
+                joint_body[ji] = Some(b);
+                link_body[c] = b;
+                body_from_link[c] = Se3::IDENTITY;
+            } else {
+                link_body[c] = pb;
+                body_from_link[c] = pb_from_parent * j.placement;
+            }
+        }
+        for (l, link) in links.iter().enumerate() {
+            let b = link_body[l];
+            bodies[b].inertia += link.inertia().transformed(&body_from_link[l]);
+        }
+        for b in (1..bodies.len()).rev() {
+            let (end, p) = (bodies[b].subtree_end, bodies[b].parent);
+            bodies[p].subtree_end = bodies[p].subtree_end.max(end);
+        }
+
+        let index = |names: &mut dyn Iterator<Item = &String>| -> HashMap<String, usize> {
+            names.enumerate().map(|(i, n)| (n.clone(), i)).collect()
+        };
+        Model {
+            name: self.name.clone(),
+            link_names: index(&mut links.iter().map(|l| &l.name)),
+            joint_names: index(&mut joints.iter().map(|j| &j.name)),
+            frame_names: index(&mut frames.iter().map(|f| &f.name)),
+            links,
+            joints,
+            frames,
+            root_joint: self.root_joint,
+            link_parent_joint,
+            link_child_joints,
+            bodies,
+            link_body,
+            body_from_link,
+            joint_body,
+            nq,
+            nv,
+            gravity: self.gravity.unwrap_or(DVec3::new(0.0, 0.0, -9.81)),
+            ignored: self.ignored.clone(),
+            warnings: Vec::new(),
+        }
+    }
+}
+
+fn unique_names<'a>(
+    names: impl Iterator<Item = &'a str>,
+    kind: ItemKind,
+    issues: &mut Vec<Issue>,
+) -> HashMap<String, usize> {
+    let mut map = HashMap::new();
+    for (i, n) in names.enumerate() {
+        if map.contains_key(n) {
+            if !issues.iter().any(
+                |x| matches!(x, Issue::DuplicateName { kind: k, name } if *k == kind && name == n),
+            ) {
+                issues.push(Issue::DuplicateName {
+                    kind,
+                    name: n.to_string(),
+                });
+            }
+        } else {
+            map.insert(n.to_string(), i);
+        }
+    }
+    map
+}
+
+fn check_placement(p: &Se3, kind: ItemKind, name: &str, issues: &mut Vec<Issue>) {
+    if !p.is_finite() {
+        issues.push(Issue::NonFinite {
+            kind,
+            name: name.to_string(),
+            what: "origin",
+        });
+    } else if !rotation::is_rotation(&p.rotation, 1e-9) {
+        issues.push(Issue::InvalidRotation {
+            kind,
+            name: name.to_string(),
+        });
+    }
+}
+
+fn check_link(link: &Link, issues: &mut Vec<Issue>, inertia_issues: &mut Vec<Issue>) {
+    if let Some(inertial) = &link.inertial {
+        if !inertial.origin.is_finite() {
+            issues.push(Issue::NonFinite {
+                kind: ItemKind::Link,
+                name: link.name.clone(),
+                what: "inertial origin",
+            });
+        }
+        let inertia = Inertia::new(inertial.mass, DVec3::ZERO, inertial.inertia);
+        match inertia.check(INERTIA_TOLERANCE) {
+            Ok(()) => {}
+            // Negative and non-finite masses or tensors are never accepted.
+            Err(defect @ InertiaDefect::NonFinite) => {
+                issues.push(Issue::InvalidInertia {
+                    link: link.name.clone(),
+                    mass: inertial.mass,
+                    defect,
+                });
+            }
+            Err(defect) if inertial.mass < 0.0 => {
+                issues.push(Issue::InvalidInertia {
+                    link: link.name.clone(),
+                    mass: inertial.mass,
+                    defect,
+                });
+            }
+            Err(defect) => {
+                inertia_issues.push(Issue::InvalidInertia {
+                    link: link.name.clone(),
+                    mass: inertial.mass,
+                    defect,
+                });
+            }
+        }
+    }
+    let shapes = link
+        .visuals
+        .iter()
+        .map(|v| (&v.origin, &v.geometry))
+        .chain(link.collisions.iter().map(|c| (&c.origin, &c.geometry)));
+    for (origin, geometry) in shapes {
+        if !origin.is_finite() {
+            issues.push(Issue::NonFinite {
+                kind: ItemKind::Link,
+                name: link.name.clone(),
+                what: "geometry origin",
+            });
+        }
+        let bad = match geometry {
+            Geometry::Box { size } => size.iter().any(|s| !(s.is_finite() && *s >= 0.0)),
+            Geometry::Cylinder { radius, length } | Geometry::Capsule { radius, length } => {
+                !(radius.is_finite() && *radius >= 0.0 && length.is_finite() && *length >= 0.0)
+            }
+            Geometry::Sphere { radius } => !(radius.is_finite() && *radius >= 0.0),
+            Geometry::Mesh { scale, .. } => scale.iter().any(|s| !s.is_finite()),
+        };
+        if bad {
+            issues.push(Issue::InvalidGeometry {
+                link: link.name.clone(),
+                reason: format!("negative or non-finite size in {geometry:?}"),
+            });
+        }
+    }
+}

@@ -1,0 +1,361 @@
+//! The model layer's error type.
+
+use core::fmt;
+use kinetree_spatial::InertiaDefect;
+use std::path::PathBuf;
+
+/// Everything that can go wrong while loading or building a [`Model`](crate::Model).
+///
+/// Loading never returns a half-built model: either every check passes or an error comes back.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ModelError {
+    /// A file could not be read or written.
+    #[error("cannot access {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The XML is malformed (before any URDF interpretation).
+    #[error("malformed XML{}: {message}", location(.file.as_deref(), *.line, *.column))]
+    Xml {
+        /// The file, when loading from a path.
+        file: Option<PathBuf>,
+        /// 1-based line of the error.
+        line: usize,
+        /// 1-based column of the error.
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// The XML is well formed but is not a URDF that urdf-rs can read (missing attributes,
+    /// numbers that do not parse, …).
+    #[error("invalid URDF{}: {message}", file.as_ref().map(|f| format!(" in {}", f.display())).unwrap_or_default())]
+    Urdf {
+        /// The file, when loading from a path.
+        file: Option<PathBuf>,
+        /// The parser's message.
+        message: String,
+    },
+    /// The JSON is malformed or does not follow the schema (unknown fields included).
+    #[error("invalid JSON{}: {message}", location(.file.as_deref(), *.line, *.column))]
+    Json {
+        /// The file, when loading from a path.
+        file: Option<PathBuf>,
+        /// 1-based line (0 when unknown).
+        line: usize,
+        /// 1-based column (0 when unknown).
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// A unit name in a JSON `units` block is not known.
+    #[error("unknown {quantity} unit '{unit}' (known: {known})")]
+    UnknownUnit {
+        /// `"length"` or `"angle"`.
+        quantity: &'static str,
+        /// The unit as written.
+        unit: String,
+        /// The accepted names.
+        known: &'static str,
+    },
+    /// An external datum file or a datum in it is missing or malformed.
+    #[error("frame '{frame}': datum '{datum}' in {}: {message}", file.display())]
+    Datum {
+        /// The frame that refers to the datum.
+        frame: String,
+        /// The datum file.
+        file: PathBuf,
+        /// The datum's name.
+        datum: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// A Denavit–Hartenberg table is not usable.
+    #[error("DH table row {row}: {message}")]
+    DhTable {
+        /// 0-based row.
+        row: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The model is inconsistent; every problem found is listed.
+    #[error("invalid model '{model}': {}", Issues(.issues))]
+    Invalid {
+        /// The model's name.
+        model: String,
+        /// Every problem found, in the order checked.
+        issues: Vec<Issue>,
+    },
+}
+
+fn location(file: Option<&std::path::Path>, line: usize, column: usize) -> String {
+    let mut s = String::new();
+    if let Some(f) = file {
+        s.push_str(&format!(" in {}", f.display()));
+    }
+    if line > 0 {
+        s.push_str(&format!(" at line {line}, column {column}"));
+    }
+    s
+}
+
+struct Issues<'a>(&'a [Issue]);
+
+impl fmt::Display for Issues<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, issue) in self.0.iter().enumerate() {
+            if i > 0 {
+                f.write_str("; ")?;
+            }
+            write!(f, "{issue}")?;
+        }
+        Ok(())
+    }
+}
+
+/// What kind of named item an [`Issue`] is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ItemKind {
+    /// A link.
+    Link,
+    /// A joint.
+    Joint,
+    /// A frame.
+    Frame,
+}
+
+impl fmt::Display for ItemKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Link => "link",
+            Self::Joint => "joint",
+            Self::Frame => "frame",
+        })
+    }
+}
+
+/// One problem found while validating a model.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Issue {
+    /// The model has no link.
+    Empty,
+    /// Two items of the same kind share a name.
+    DuplicateName {
+        /// Links, joints or frames.
+        kind: ItemKind,
+        /// The repeated name.
+        name: String,
+    },
+    /// A joint names a parent link that does not exist.
+    UnknownParent {
+        /// The joint.
+        joint: String,
+        /// The missing link.
+        link: String,
+    },
+    /// A joint names a child link that does not exist.
+    UnknownChild {
+        /// The joint.
+        joint: String,
+        /// The missing link.
+        link: String,
+    },
+    /// A joint attaches to a frame that does not exist on its parent link.
+    UnknownParentFrame {
+        /// The joint.
+        joint: String,
+        /// The missing frame.
+        frame: String,
+        /// The parent link.
+        link: String,
+    },
+    /// A frame is attached to a link that does not exist.
+    UnknownFrameLink {
+        /// The frame.
+        frame: String,
+        /// The missing link.
+        link: String,
+    },
+    /// A link is the child of more than one joint.
+    MultipleParents {
+        /// The link.
+        link: String,
+        /// The joints claiming it.
+        joints: Vec<String>,
+    },
+    /// Several links have no parent joint.
+    MultipleRoots {
+        /// The parentless links.
+        links: Vec<String>,
+    },
+    /// Every link has a parent joint, so there is no root.
+    NoRoot,
+    /// Links form a cycle (a closed chain cannot be a tree).
+    Cycle {
+        /// A link on the cycle.
+        link: String,
+    },
+    /// A joint's axis is zero or not finite.
+    InvalidAxis {
+        /// The joint.
+        joint: String,
+        /// The axis as given.
+        axis: [f64; 3],
+    },
+    /// A joint's lower limit exceeds its upper limit.
+    InvalidLimits {
+        /// The joint.
+        joint: String,
+        /// Lower bound.
+        lower: f64,
+        /// Upper bound.
+        upper: f64,
+    },
+    /// A number is NaN or infinite where a finite value is required.
+    NonFinite {
+        /// Link, joint or frame.
+        kind: ItemKind,
+        /// Its name.
+        name: String,
+        /// Which value (e.g. "origin", "mass", "axis", "limit velocity").
+        what: &'static str,
+    },
+    /// A negative mass or physically impossible rotational inertia.
+    InvalidInertia {
+        /// The link.
+        link: String,
+        /// Mass as given.
+        mass: f64,
+        /// What fails.
+        defect: InertiaDefect,
+    },
+    /// A mimic joint follows a joint that does not exist.
+    UnknownMimicTarget {
+        /// The mimic joint.
+        joint: String,
+        /// The missing leader.
+        target: String,
+    },
+    /// A mimic joint follows itself or a joint of a different dimension.
+    InvalidMimic {
+        /// The mimic joint.
+        joint: String,
+        /// Why.
+        reason: String,
+    },
+    /// A placement's rotation is not a rotation matrix.
+    InvalidRotation {
+        /// Link, joint or frame.
+        kind: ItemKind,
+        /// Its name.
+        name: String,
+    },
+    /// A geometry has a negative or non-finite size.
+    InvalidGeometry {
+        /// The link.
+        link: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A floating or planar joint is attached below the root where the model does not support it,
+    /// or a root joint is declared twice.
+    InvalidRootJoint {
+        /// The joint.
+        joint: String,
+        /// Why.
+        reason: String,
+    },
+}
+
+impl fmt::Display for Issue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Empty => write!(f, "the model has no link"),
+            Self::DuplicateName { kind, name } => write!(f, "duplicate {kind} name '{name}'"),
+            Self::UnknownParent { joint, link } => {
+                write!(f, "joint '{joint}' has unknown parent link '{link}'")
+            }
+            Self::UnknownChild { joint, link } => {
+                write!(f, "joint '{joint}' has unknown child link '{link}'")
+            }
+            Self::UnknownParentFrame { joint, frame, link } => {
+                write!(
+                    f,
+                    "joint '{joint}' attaches to unknown frame '{frame}' of link '{link}'"
+                )
+            }
+            Self::UnknownFrameLink { frame, link } => {
+                write!(f, "frame '{frame}' is attached to unknown link '{link}'")
+            }
+            Self::MultipleParents { link, joints } => {
+                write!(
+                    f,
+                    "link '{link}' is the child of several joints: {}",
+                    joints.join(", ")
+                )
+            }
+            Self::MultipleRoots { links } => {
+                write!(
+                    f,
+                    "several root links (links without a parent joint): {}",
+                    links.join(", ")
+                )
+            }
+            Self::NoRoot => write!(f, "no root link: every link has a parent joint"),
+            Self::Cycle { link } => write!(f, "the joints form a cycle through link '{link}'"),
+            Self::InvalidAxis { joint, axis } => {
+                write!(f, "joint '{joint}' has a zero or non-finite axis {axis:?}")
+            }
+            Self::InvalidLimits {
+                joint,
+                lower,
+                upper,
+            } => {
+                write!(
+                    f,
+                    "joint '{joint}' has lower limit {lower} > upper limit {upper}"
+                )
+            }
+            Self::NonFinite { kind, name, what } => {
+                write!(f, "{kind} '{name}' has a non-finite {what}")
+            }
+            Self::InvalidInertia { link, mass, defect } => {
+                write!(
+                    f,
+                    "link '{link}' has an invalid inertia (mass {mass}): {defect}"
+                )
+            }
+            Self::UnknownMimicTarget { joint, target } => {
+                write!(f, "joint '{joint}' mimics unknown joint '{target}'")
+            }
+            Self::InvalidMimic { joint, reason } => {
+                write!(f, "joint '{joint}': invalid mimic: {reason}")
+            }
+            Self::InvalidRotation { kind, name } => {
+                write!(
+                    f,
+                    "{kind} '{name}' has a placement whose rotation is not orthonormal"
+                )
+            }
+            Self::InvalidGeometry { link, reason } => {
+                write!(f, "link '{link}' has invalid geometry: {reason}")
+            }
+            Self::InvalidRootJoint { joint, reason } => write!(f, "joint '{joint}': {reason}"),
+        }
+    }
+}
+
+impl ModelError {
+    /// The validation issues, when this is [`ModelError::Invalid`]; empty otherwise.
+    #[must_use]
+    pub fn issues(&self) -> &[Issue] {
+        match self {
+            Self::Invalid { issues, .. } => issues,
+            _ => &[],
+        }
+    }
+}

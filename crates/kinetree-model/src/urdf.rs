@@ -1,0 +1,294 @@
+//! URDF import through urdf-rs.
+//!
+//! The XML is first scanned with quick-xml so that malformed files are reported with a line and
+//! column, and so that elements kinetree does not model (transmissions, gazebo tags, calibration,
+//! safety controllers, …) are reported by [`Model::ignored`] instead of being dropped silently.
+
+use crate::builder::{JointSpec, ModelBuilder};
+use crate::error::ModelError;
+use crate::joint::{JointDynamics, JointKind, JointLimits, Mimic};
+use crate::link::{Collision, Geometry, Inertial, Link, Visual};
+use crate::model::{Model, RootJoint};
+use glam::DVec3;
+use kinetree_spatial::{Se3, Symmetric3};
+use quick_xml::events::Event;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+impl Model {
+    /// Loads a URDF file.
+    ///
+    /// Mesh file names (`package://…`, relative paths) are kept exactly as written.
+    ///
+    /// # Errors
+    /// [`ModelError::Io`] when the file cannot be read, [`ModelError::Xml`] (with line and column)
+    /// for malformed XML, [`ModelError::Urdf`] when urdf-rs rejects the content, and
+    /// [`ModelError::Invalid`] when the robot is not a valid tree.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree_model::{Model, RootJoint};
+    /// # fn main() -> Result<(), kinetree_model::ModelError> {
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/robots/panda.urdf");
+    /// let panda = Model::from_urdf_file(path, RootJoint::Fixed)?;
+    /// assert_eq!((panda.nq(), panda.nv()), (9, 9));
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn from_urdf_file(path: impl AsRef<Path>, root: RootJoint) -> Result<Model, ModelError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        from_urdf(&text, root, Some(path.to_path_buf()))
+    }
+
+    /// Loads a URDF document from a string.
+    ///
+    /// # Errors
+    /// As [`Model::from_urdf_file`], without the file name.
+    pub fn from_urdf_str(urdf: &str, root: RootJoint) -> Result<Model, ModelError> {
+        from_urdf(urdf, root, None)
+    }
+}
+
+fn from_urdf(text: &str, root: RootJoint, file: Option<PathBuf>) -> Result<Model, ModelError> {
+    let ignored = scan_xml(text, file.as_deref())?;
+    let robot = urdf_rs::read_from_string(text).map_err(|e| ModelError::Urdf {
+        file: file.clone(),
+        message: e.to_string(),
+    })?;
+    let mut b = ModelBuilder::new(robot.name.clone());
+    b.root_joint(root);
+    for what in ignored {
+        b.note_ignored(what);
+    }
+    let colors: HashMap<&str, [f64; 4]> = robot
+        .materials
+        .iter()
+        .filter_map(|m| m.color.as_ref().map(|c| (m.name.as_str(), c.rgba.0)))
+        .collect();
+    for l in &robot.links {
+        b.add_link(convert_link(l, &colors));
+    }
+    for j in &robot.joints {
+        let mut spec = convert_joint(j);
+        if spec.kind == JointKind::Fixed && spec.mimic.is_some() {
+            // A fixed joint has nothing to couple; urdfdom and Pinocchio drop the tag too.
+            spec.mimic = None;
+            b.note_ignored(format!("<mimic> of fixed joint '{}'", spec.name));
+        }
+        b.add_joint(spec);
+    }
+    b.build()
+}
+
+fn pose(p: &urdf_rs::Pose) -> Se3 {
+    Se3::from_xyz_rpy(p.xyz.0, p.rpy.0)
+}
+
+fn geometry(g: &urdf_rs::Geometry) -> Geometry {
+    match g {
+        urdf_rs::Geometry::Box { size } => Geometry::Box { size: size.0 },
+        urdf_rs::Geometry::Cylinder { radius, length } => Geometry::Cylinder {
+            radius: *radius,
+            length: *length,
+        },
+        urdf_rs::Geometry::Capsule { radius, length } => Geometry::Capsule {
+            radius: *radius,
+            length: *length,
+        },
+        urdf_rs::Geometry::Sphere { radius } => Geometry::Sphere { radius: *radius },
+        urdf_rs::Geometry::Mesh { filename, scale } => Geometry::Mesh {
+            filename: filename.clone(),
+            scale: scale.as_ref().map_or([1.0; 3], |s| s.0),
+        },
+    }
+}
+
+fn convert_link(l: &urdf_rs::Link, colors: &HashMap<&str, [f64; 4]>) -> Link {
+    let i = &l.inertial;
+    let inertia = Symmetric3::new(
+        i.inertia.ixx,
+        i.inertia.ixy,
+        i.inertia.ixz,
+        i.inertia.iyy,
+        i.inertia.iyz,
+        i.inertia.izz,
+    );
+    // urdf-rs fills a missing <inertial> with zeros: that is a massless link.
+    let massless = i.mass.value == 0.0 && inertia == Symmetric3::ZERO;
+    let inertial = (!massless).then(|| Inertial {
+        origin: pose(&i.origin),
+        mass: i.mass.value,
+        inertia,
+    });
+    let visuals = l
+        .visual
+        .iter()
+        .map(|v| {
+            let material = v
+                .material
+                .as_ref()
+                .map(|m| m.name.clone())
+                .filter(|n| !n.is_empty());
+            let color = v.material.as_ref().and_then(|m| {
+                m.color
+                    .as_ref()
+                    .map(|c| c.rgba.0)
+                    .or_else(|| colors.get(m.name.as_str()).copied())
+            });
+            Visual {
+                name: v.name.clone(),
+                origin: pose(&v.origin),
+                geometry: geometry(&v.geometry),
+                material,
+                color,
+            }
+        })
+        .collect();
+    let collisions = l
+        .collision
+        .iter()
+        .map(|c| Collision {
+            name: c.name.clone(),
+            origin: pose(&c.origin),
+            geometry: geometry(&c.geometry),
+        })
+        .collect();
+    Link {
+        name: l.name.clone(),
+        inertial,
+        visuals,
+        collisions,
+        metadata: Default::default(),
+    }
+}
+
+fn convert_joint(j: &urdf_rs::Joint) -> JointSpec {
+    let kind = match j.joint_type {
+        urdf_rs::JointType::Revolute => JointKind::Revolute,
+        urdf_rs::JointType::Continuous => JointKind::Continuous,
+        urdf_rs::JointType::Prismatic => JointKind::Prismatic,
+        urdf_rs::JointType::Fixed => JointKind::Fixed,
+        urdf_rs::JointType::Floating => JointKind::Floating,
+        urdf_rs::JointType::Planar => JointKind::Planar,
+        urdf_rs::JointType::Spherical => JointKind::Spherical,
+    };
+    let l = &j.limit;
+    // Limits are kept as written (urdf-rs reads a missing <limit> as zeros, as urdfdom does).
+    let limits = if kind.has_position_limits() {
+        JointLimits {
+            lower: l.lower,
+            upper: l.upper,
+            velocity: l.velocity,
+            effort: l.effort,
+        }
+    } else {
+        JointLimits {
+            velocity: l.velocity,
+            effort: l.effort,
+            ..JointLimits::UNLIMITED
+        }
+    };
+    let dynamics = j
+        .dynamics
+        .as_ref()
+        .map_or_else(JointDynamics::default, |d| JointDynamics {
+            damping: d.damping,
+            friction: d.friction,
+            armature: 0.0,
+        });
+    let mimic = j.mimic.as_ref().map(|m| Mimic {
+        joint: m.joint.clone(),
+        multiplier: m.multiplier.unwrap_or(1.0),
+        offset: m.offset.unwrap_or(0.0),
+    });
+    let mut spec = JointSpec::new(
+        j.name.clone(),
+        kind,
+        j.parent.link.clone(),
+        j.child.link.clone(),
+    )
+    .with_placement(pose(&j.origin))
+    .with_axis(DVec3::from_array(j.axis.xyz.0))
+    .with_limits(limits)
+    .with_dynamics(dynamics);
+    spec.mimic = mimic;
+    spec
+}
+
+/// Checks well-formedness and lists the elements kinetree does not model.
+fn scan_xml(text: &str, file: Option<&Path>) -> Result<Vec<String>, ModelError> {
+    let mut reader = quick_xml::Reader::from_str(text);
+    let mut ignored = Vec::new();
+    // Element names from the document root down to the current element.
+    let mut stack: Vec<(String, Option<String>)> = Vec::new();
+    let mut saw_robot = false;
+    loop {
+        let event = reader.read_event().map_err(|e| {
+            let (line, column) = line_column(text, reader.error_position() as usize);
+            ModelError::Xml {
+                file: file.map(Path::to_path_buf),
+                line,
+                column,
+                message: e.to_string(),
+            }
+        })?;
+        let (start, empty) = match &event {
+            Event::Start(s) => (Some(s), false),
+            Event::Empty(s) => (Some(s), true),
+            Event::End(_) => {
+                stack.pop();
+                continue;
+            }
+            Event::Eof => break,
+            _ => continue,
+        };
+        let Some(s) = start else { continue };
+        let tag = String::from_utf8_lossy(s.local_name().as_ref()).into_owned();
+        let name = s
+            .try_get_attribute("name")
+            .ok()
+            .flatten()
+            .and_then(|a| a.unescape_value().ok().map(|v| v.into_owned()));
+        match stack.as_slice() {
+            [] => saw_robot |= tag == "robot",
+            [(_, _)] => {
+                if !matches!(tag.as_str(), "link" | "joint" | "material") {
+                    ignored.push(match &name {
+                        Some(n) => format!("<{tag}> '{n}'"),
+                        None => format!("<{tag}>"),
+                    });
+                }
+            }
+            [_, (parent, parent_name)] if parent == "joint" => {
+                if matches!(tag.as_str(), "calibration" | "safety_controller") {
+                    ignored.push(format!(
+                        "<{tag}> of joint '{}'",
+                        parent_name.as_deref().unwrap_or("?")
+                    ));
+                }
+            }
+            _ => {}
+        }
+        if !empty {
+            stack.push((tag, name));
+        }
+    }
+    if !saw_robot {
+        return Err(ModelError::Urdf {
+            file: file.map(Path::to_path_buf),
+            message: "the document has no <robot> root element".into(),
+        });
+    }
+    Ok(ignored)
+}
+
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text.as_bytes()[..offset.min(text.len())];
+    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+    let column = before.iter().rev().take_while(|&&b| b != b'\n').count() + 1;
+    (line, column)
+}
