@@ -1,1 +1,79 @@
-fn main() {}
+//! kinetree's project tasks, run as `cargo xtask <task>` (the alias is in `.cargo/config.toml`).
+//!
+//! Each task is one module with a `run` function; `try_main` dispatches on the first argument.
+//! The tasks are plain Rust so that they run the same on every machine with only cargo installed.
+
+use anyhow::{Context, Result, bail};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+mod bench;
+mod ci;
+mod corpus;
+mod layers;
+mod regress;
+mod tidy;
+
+const USAGE: &str = "\
+usage: cargo xtask <task> [args]
+
+tasks:
+  ci             run every CI step in order (fmt, clippy, layers, tidy, tests, docs, benches build)
+  layers         check that each crate depends only on the layer directly below it
+  tidy           reject should_panic and ignore test attributes anywhere in the tree
+  corpus <dir>   load every .urdf under <dir> and print one line per file
+  regress        compare against the reference data (not written yet)
+  bench          criterion baselines (not written yet)";
+
+fn main() -> ExitCode {
+    match try_main() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn try_main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some((task, rest)) = args.split_first() else {
+        println!("{USAGE}");
+        return Ok(());
+    };
+    match task.as_str() {
+        "ci" => ci::run(rest),
+        "layers" => layers::run(rest),
+        "tidy" => tidy::run(rest),
+        "corpus" => corpus::run(rest),
+        "regress" => regress::run(rest),
+        "bench" => bench::run(rest),
+        "help" | "-h" | "--help" => {
+            println!("{USAGE}");
+            Ok(())
+        }
+        other => bail!("unknown task '{other}'\n\n{USAGE}"),
+    }
+}
+
+/// The workspace root (the directory holding the root `Cargo.toml`).
+fn project_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives one level below the workspace root")
+        .to_path_buf()
+}
+
+/// Fails when a task that takes no arguments is given some.
+fn no_args(task: &str, args: &[String]) -> Result<()> {
+    if args.is_empty() {
+        Ok(())
+    } else {
+        bail!("`cargo xtask {task}` takes no arguments (got {args:?})")
+    }
+}
+
+/// Reads a file to a string, naming it in the error.
+fn read(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))
+}
