@@ -1,1 +1,65 @@
-//! placeholder
+//! # kinetree-kinematics
+//!
+//! The kinematics layer of kinetree: forward kinematics ([`forward_kinematics`]), link and frame
+//! placements, joint and frame Jacobians in three reference frames ([`ReferenceFrame`]) and their
+//! time derivatives, and configuration-space operations ([`configuration`]). It sits on
+//! `kinetree-model`; the dynamics and collision layers sit on it.
+//!
+//! Algorithms are plain functions over `(&Model, &mut KinematicsData, inputs)`. A
+//! [`KinematicsData`] holds every buffer they write; once it exists, no algorithm allocates.
+//!
+//! ```
+//! use kinetree_kinematics::{compute_frame_jacobian, configuration, forward_kinematics, FrameId,
+//!                           KinematicsData, ReferenceFrame};
+//! use kinetree_model::{Model, RootJoint};
+//! use kinetree_model::spatial::Motion;
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/robots/panda.urdf");
+//! let model = Model::from_urdf_file(path, RootJoint::Fixed)?;
+//! let mut data = KinematicsData::new(&model);
+//! let q = configuration::neutral_configuration(&model);
+//! forward_kinematics(&model, &mut data, &q)?;
+//! let hand = FrameId::find(&model, "panda_hand")?;
+//! println!("hand at {}", data.world_placement(hand).translation);
+//! let mut jacobian = vec![Motion::ZERO; model.nv()];
+//! compute_frame_jacobian(&model, &mut data, &q, hand, ReferenceFrame::LocalWorldAligned, &mut jacobian)?;
+//! // The first joint turns about world z: its column's angular part is z.
+//! assert!((jacobian[0].angular.z - 1.0).abs() < 1e-12);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! ## Conventions
+//! - SI units; `q` has `model.nq()` entries, `v`/`a` have `model.nv()` (layouts per joint kind in
+//!   [`kinetree_model::JointKind`]; quaternions x, y, z, w).
+//! - Spatial vectors and Jacobian rows are `[linear; angular]`; a Jacobian is `nv` [`Motion`]
+//!   columns ([`jacobian_to_rows`] gives the 6 x nv matrix).
+//! - Placements are `world_from_*` (`p_world = world_from_link.transform_point(p_link)`).
+//! - Body velocities are twists in the body's own frame; floating-base velocities are in the base
+//!   frame.
+//!
+//! ## Errors
+//! [`KinematicsError`] names the offending input, joint or frame; wrong lengths and NaN inputs are
+//! errors, never panics.
+
+pub mod configuration;
+mod data;
+mod error;
+mod forward;
+mod jacobian;
+mod joint_model;
+
+pub use data::{FrameId, KinematicsData};
+pub use error::KinematicsError;
+pub use forward::{
+    forward_kinematics, forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
+    frame_velocity, relative_transform, update_frame_placements,
+};
+pub use jacobian::{
+    ReferenceFrame, change_reference, compute_frame_jacobian, compute_joint_jacobians,
+    compute_joint_jacobians_time_variation, frame_jacobian, frame_jacobian_time_variation,
+    jacobian_to_rows,
+};
+pub use joint_model::JointModel;
+pub use kinetree_model as model;
+pub use kinetree_model::spatial;

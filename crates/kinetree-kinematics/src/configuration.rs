@@ -1,0 +1,572 @@
+//! Configuration spaces: neutral and random configurations, integration and difference on the
+//! joints' manifolds, interpolation, normalization, clamping and distance.
+//!
+//! Per joint kind (see [`kinetree_model::JointKind`] for the q/v layouts):
+//! - revolute, prismatic: the real line; `integrate` adds.
+//! - continuous: the circle; `difference` is wrapped to (-π, π] so it follows the short way
+//!   round, and `integrate(q0, difference(q0, q1))` equals `q1` up to a multiple of 2π.
+//! - cylindrical: line × circle (no wrapping of the angle: it may carry limits).
+//! - spherical: SO(3), `q ⊕ ω = q · exp(ω)` with ω in the child frame.
+//! - planar: SE(2) with the velocity in the child frame, `q ⊕ v = q · exp(v)`.
+//! - floating: SE(3) with the twist in the child frame, `q ⊕ v = q · exp6(v)` (Pinocchio's
+//!   convention).
+//!
+//! Random configurations are uniform within finite position limits. Joints without finite limits
+//! (or with `lower == upper`, e.g. placeholder URDF limits) sample angles in [-π, π] and
+//! translations in [-1, 1] m; rotations of spherical and floating joints are uniform on SO(3).
+
+use crate::error::{KinematicsError, check_vector};
+use crate::joint_model::quat;
+use glam::{DQuat, DVec3};
+use kinetree_model::spatial::{Motion, Se3, explog, rotation};
+use kinetree_model::{JointKind, Model};
+use rand::Rng;
+use std::f64::consts::PI;
+
+/// Writes the neutral configuration (zero angles and displacements, identity rotations) into `q`.
+///
+/// # Errors
+/// [`KinematicsError::DimensionMismatch`] when `q.len() != model.nq()`.
+pub fn neutral(model: &Model, q: &mut [f64]) -> Result<(), KinematicsError> {
+    check_len("q", q, model.nq())?;
+    q.fill(0.0);
+    for b in model.bodies() {
+        match b.kind {
+            JointKind::Spherical => q[b.idx_q + 3] = 1.0,
+            JointKind::Floating => q[b.idx_q + 6] = 1.0,
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The neutral configuration as a new vector.
+#[must_use]
+pub fn neutral_configuration(model: &Model) -> Vec<f64> {
+    let mut q = vec![0.0; model.nq()];
+    // Cannot fail: the length is right by construction.
+    let _ = neutral(model, &mut q);
+    q
+}
+
+fn check_len(what: &'static str, x: &[f64], n: usize) -> Result<(), KinematicsError> {
+    if x.len() == n {
+        Ok(())
+    } else {
+        Err(KinematicsError::DimensionMismatch {
+            what,
+            expected: n,
+            actual: x.len(),
+        })
+    }
+}
+
+/// The sampling interval of a 1-DoF coordinate with limits `lower`/`upper` (see the module docs).
+#[must_use]
+pub fn sampling_range(kind: JointKind, lower: f64, upper: f64) -> (f64, f64) {
+    let angular = !matches!(kind, JointKind::Prismatic);
+    if kind != JointKind::Continuous && lower.is_finite() && upper.is_finite() && lower < upper {
+        (lower, upper)
+    } else if angular {
+        (-PI, PI)
+    } else {
+        (-1.0, 1.0)
+    }
+}
+
+fn random_quat<R: Rng + ?Sized>(rng: &mut R) -> DQuat {
+    // Shoemake's uniform sampling of unit quaternions.
+    let (u1, u2, u3): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
+    let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+    let (t2, t3) = (2.0 * PI * u2, 2.0 * PI * u3);
+    DQuat::from_xyzw(a * t2.sin(), a * t2.cos(), b * t3.sin(), b * t3.cos())
+}
+
+/// Writes a random configuration into `q`, uniform within the limits (see the module docs).
+/// Deterministic for a given generator state. Allocates nothing.
+///
+/// # Errors
+/// [`KinematicsError::DimensionMismatch`] when `q.len() != model.nq()`.
+pub fn random_configuration<R: Rng + ?Sized>(
+    model: &Model,
+    rng: &mut R,
+    q: &mut [f64],
+) -> Result<(), KinematicsError> {
+    check_len("q", q, model.nq())?;
+    let uniform = |(lo, hi): (f64, f64), rng: &mut R| lo + (hi - lo) * rng.random::<f64>();
+    for b in model.bodies().iter().skip(1) {
+        let lim = &model.joint(b.joint.unwrap_or(0)).limits;
+        let qi = &mut q[b.idx_q..b.idx_q + b.nq];
+        match b.kind {
+            JointKind::Fixed => {}
+            JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic => {
+                qi[0] = uniform(sampling_range(b.kind, lim.lower, lim.upper), rng);
+            }
+            JointKind::Cylindrical => {
+                qi[0] = uniform(
+                    sampling_range(JointKind::Prismatic, lim.lower, lim.upper),
+                    rng,
+                );
+                qi[1] = uniform(
+                    sampling_range(JointKind::Revolute, lim.lower, lim.upper),
+                    rng,
+                );
+            }
+            JointKind::Spherical => qi.copy_from_slice(&random_quat(rng).to_array()),
+            JointKind::Planar => {
+                qi[0] = uniform((-1.0, 1.0), rng);
+                qi[1] = uniform((-1.0, 1.0), rng);
+                qi[2] = uniform((-PI, PI), rng);
+            }
+            JointKind::Floating => {
+                for x in qi[..3].iter_mut() {
+                    *x = uniform((-1.0, 1.0), rng);
+                }
+                qi[3..].copy_from_slice(&random_quat(rng).to_array());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The SE(2) exponential of a body velocity `(vx, vy, ω)`: the local displacement `(dx, dy)`.
+fn se2_exp_translation(vx: f64, vy: f64, w: f64) -> (f64, f64) {
+    let (a, b) = se2_v(w);
+    (a * vx - b * vy, b * vx + a * vy)
+}
+
+/// Entries of `V(ω) = [[a, -b], [b, a]]` with `a = sin ω / ω`, `b = (1 - cos ω)/ω`.
+fn se2_v(w: f64) -> (f64, f64) {
+    if w.abs() < 1e-6 {
+        (1.0 - w * w / 6.0, w / 2.0 - w * w * w / 24.0)
+    } else {
+        let half = (0.5 * w).sin();
+        (w.sin() / w, 2.0 * half * half / w)
+    }
+}
+
+fn floating_pose(q: &[f64]) -> Se3 {
+    Se3::from_translation_quat(DVec3::new(q[0], q[1], q[2]), quat(&q[3..7]).normalize())
+}
+
+fn write_floating(t: &Se3, q: &mut [f64]) {
+    q[..3].copy_from_slice(&t.translation.to_array());
+    q[3..7].copy_from_slice(&DQuat::from_mat3(&t.rotation).normalize().to_array());
+}
+
+/// `q ⊕ v` for one joint's blocks (lengths `kind.nq()`, `kind.nv()`, `kind.nq()`).
+///
+/// # Panics
+/// When a block is shorter than the kind requires.
+pub fn integrate_joint(kind: JointKind, qi: &[f64], vi: &[f64], qo: &mut [f64]) {
+    match kind {
+        JointKind::Fixed => {}
+        JointKind::Revolute
+        | JointKind::Continuous
+        | JointKind::Prismatic
+        | JointKind::Cylindrical => {
+            for k in 0..kind.nq() {
+                qo[k] = qi[k] + vi[k];
+            }
+        }
+        JointKind::Spherical => {
+            let r = quat(qi).normalize() * DQuat::from_scaled_axis(DVec3::new(vi[0], vi[1], vi[2]));
+            qo[..4].copy_from_slice(&r.normalize().to_array());
+        }
+        JointKind::Planar => {
+            let (dx, dy) = se2_exp_translation(vi[0], vi[1], vi[2]);
+            let (s, c) = qi[2].sin_cos();
+            qo[0] = qi[0] + c * dx - s * dy;
+            qo[1] = qi[1] + s * dx + c * dy;
+            qo[2] = qi[2] + vi[2];
+        }
+        JointKind::Floating => {
+            let t = floating_pose(qi) * explog::exp6(&Motion::from_slice(vi));
+            write_floating(&t, qo);
+        }
+    }
+}
+
+/// Writes `q ⊕ v` (the configuration reached from `q` after moving with velocity `v` for unit
+/// time) into `q_out`. Quaternions in the result are normalized. Allocates nothing.
+///
+/// # Errors
+/// Length or finiteness errors for `q`, `v`, `q_out`.
+pub fn integrate(
+    model: &Model,
+    q: &[f64],
+    v: &[f64],
+    q_out: &mut [f64],
+) -> Result<(), KinematicsError> {
+    check_vector("q", q, model.nq())?;
+    check_vector("v", v, model.nv())?;
+    check_len("q_out", q_out, model.nq())?;
+    for b in model.bodies().iter().skip(1) {
+        integrate_joint(
+            b.kind,
+            &q[b.idx_q..b.idx_q + b.nq],
+            &v[b.idx_v..b.idx_v + b.nv],
+            &mut q_out[b.idx_q..b.idx_q + b.nq],
+        );
+    }
+    Ok(())
+}
+
+/// The velocity taking `a` to `c` for one joint's blocks (see [`difference`]).
+///
+/// # Panics
+/// When a block is shorter than the kind requires.
+pub fn difference_joint(kind: JointKind, a: &[f64], c: &[f64], vo: &mut [f64]) {
+    match kind {
+        JointKind::Fixed => {}
+        JointKind::Continuous => vo[0] = wrap_angle(c[0] - a[0]),
+        JointKind::Revolute | JointKind::Prismatic | JointKind::Cylindrical => {
+            for k in 0..kind.nq() {
+                vo[k] = c[k] - a[k];
+            }
+        }
+        JointKind::Spherical => {
+            let r0 = glam::DMat3::from_quat(quat(a).normalize());
+            let r1 = glam::DMat3::from_quat(quat(c).normalize());
+            vo[..3].copy_from_slice(&rotation::log3(&(r0.transpose() * r1)).to_array());
+        }
+        JointKind::Planar => {
+            let w = c[2] - a[2];
+            let (s, co) = a[2].sin_cos();
+            let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
+            let (lx, ly) = (co * dx + s * dy, -s * dx + co * dy);
+            let (p, m) = se2_v(w);
+            let det = p * p + m * m;
+            vo[0] = (p * lx + m * ly) / det;
+            vo[1] = (-m * lx + p * ly) / det;
+            vo[2] = w;
+        }
+        JointKind::Floating => {
+            let d = explog::log6(&floating_pose(a).inv_mul(&floating_pose(c)));
+            d.write_to_slice(vo);
+        }
+    }
+}
+
+/// Writes the velocity `v` with `q0 ⊕ v = q1` into `v_out` (continuous joints take the short way
+/// round). Allocates nothing.
+///
+/// # Errors
+/// Length or finiteness errors for `q0`, `q1`, `v_out`.
+pub fn difference(
+    model: &Model,
+    q0: &[f64],
+    q1: &[f64],
+    v_out: &mut [f64],
+) -> Result<(), KinematicsError> {
+    check_vector("q0", q0, model.nq())?;
+    check_vector("q1", q1, model.nq())?;
+    check_len("v_out", v_out, model.nv())?;
+    for b in model.bodies().iter().skip(1) {
+        difference_joint(
+            b.kind,
+            &q0[b.idx_q..b.idx_q + b.nq],
+            &q1[b.idx_q..b.idx_q + b.nq],
+            &mut v_out[b.idx_v..b.idx_v + b.nv],
+        );
+    }
+    Ok(())
+}
+
+/// Wraps an angle to (-π, π].
+#[inline]
+#[must_use]
+pub fn wrap_angle(x: f64) -> f64 {
+    let y = x.rem_euclid(2.0 * PI);
+    if y > PI { y - 2.0 * PI } else { y }
+}
+
+/// Writes the configuration a fraction `t` of the way from `q0` to `q1` (geodesic on each joint's
+/// manifold) into `q_out`. Allocates nothing.
+///
+/// # Errors
+/// Length or finiteness errors.
+pub fn interpolate(
+    model: &Model,
+    q0: &[f64],
+    q1: &[f64],
+    t: f64,
+    q_out: &mut [f64],
+) -> Result<(), KinematicsError> {
+    check_vector("q0", q0, model.nq())?;
+    check_vector("q1", q1, model.nq())?;
+    check_len("q_out", q_out, model.nq())?;
+    // Per joint, without a scratch buffer: integrate(q0, t · difference(q0, q1)).
+    let mut v = [0.0f64; 6];
+    for b in model.bodies().iter().skip(1) {
+        let (a, c) = (&q0[b.idx_q..b.idx_q + b.nq], &q1[b.idx_q..b.idx_q + b.nq]);
+        let v = &mut v[..b.nv];
+        difference_joint(b.kind, a, c, v);
+        for x in v.iter_mut() {
+            *x *= t;
+        }
+        integrate_joint(b.kind, a, v, &mut q_out[b.idx_q..b.idx_q + b.nq]);
+    }
+    Ok(())
+}
+
+/// Normalizes the quaternions of spherical and floating joints in place.
+///
+/// # Errors
+/// [`KinematicsError::DimensionMismatch`] for a wrong length; [`KinematicsError::NonFinite`] when a
+/// quaternion is zero or not finite.
+pub fn normalize(model: &Model, q: &mut [f64]) -> Result<(), KinematicsError> {
+    check_vector("q", q, model.nq())?;
+    for b in model.bodies().iter().skip(1) {
+        let start = match b.kind {
+            JointKind::Spherical => b.idx_q,
+            JointKind::Floating => b.idx_q + 3,
+            _ => continue,
+        };
+        let n = quat(&q[start..start + 4]).length();
+        if !(n.is_finite() && n > 0.0) {
+            return Err(KinematicsError::NonFinite {
+                what: "q (quaternion)",
+                index: start,
+            });
+        }
+        for x in q[start..start + 4].iter_mut() {
+            *x /= n;
+        }
+    }
+    Ok(())
+}
+
+/// Clamps every coordinate that has finite position limits into them, in place.
+///
+/// # Errors
+/// [`KinematicsError::DimensionMismatch`] for a wrong length.
+pub fn clamp(model: &Model, q: &mut [f64]) -> Result<(), KinematicsError> {
+    check_len("q", q, model.nq())?;
+    for b in model.bodies().iter().skip(1) {
+        if !b.kind.has_position_limits() {
+            continue;
+        }
+        let lim = &model.joint(b.joint.unwrap_or(0)).limits;
+        for x in q[b.idx_q..b.idx_q + b.nq].iter_mut() {
+            *x = x.clamp(lim.lower.min(lim.upper), lim.upper.max(lim.lower));
+        }
+    }
+    Ok(())
+}
+
+/// Whether every coordinate with position limits is within them (by at most `tolerance` outside).
+///
+/// # Errors
+/// [`KinematicsError::DimensionMismatch`] for a wrong length.
+pub fn is_within_limits(model: &Model, q: &[f64], tolerance: f64) -> Result<bool, KinematicsError> {
+    check_len("q", q, model.nq())?;
+    Ok(model.bodies().iter().skip(1).all(|b| {
+        let lim = &model.joint(b.joint.unwrap_or(0)).limits;
+        !b.kind.has_position_limits()
+            || q[b.idx_q..b.idx_q + b.nq]
+                .iter()
+                .all(|x| *x >= lim.lower - tolerance && *x <= lim.upper + tolerance)
+    }))
+}
+
+/// The length of `difference(q0, q1)`: a distance on the configuration manifold.
+///
+/// # Errors
+/// As [`difference`].
+pub fn distance(model: &Model, q0: &[f64], q1: &[f64]) -> Result<f64, KinematicsError> {
+    let mut v = vec![0.0; model.nv()];
+    difference(model, q0, q1, &mut v)?;
+    Ok(v.iter().map(|x| x * x).sum::<f64>().sqrt())
+}
+
+fn joint_block(
+    model: &Model,
+    name: &str,
+    values: &[f64],
+    velocity: bool,
+) -> Result<core::ops::Range<usize>, KinematicsError> {
+    let j = model
+        .joint_index(name)
+        .ok_or_else(|| KinematicsError::UnknownJoint {
+            name: name.to_string(),
+        })?;
+    let range = if velocity {
+        model.joint_v_range(j)
+    } else {
+        model.joint_q_range(j)
+    };
+    if range.is_empty() {
+        return Err(KinematicsError::InvalidJointValue {
+            joint: name.to_string(),
+            reason: "a fixed joint has no coordinates".into(),
+        });
+    }
+    if values.len() != range.len() {
+        return Err(KinematicsError::InvalidJointValue {
+            joint: name.to_string(),
+            reason: format!(
+                "{} joint takes {} {} value(s), got {}",
+                model.joint(j).kind,
+                range.len(),
+                if velocity { "velocity" } else { "position" },
+                values.len()
+            ),
+        });
+    }
+    if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+        return Err(KinematicsError::InvalidJointValue {
+            joint: name.to_string(),
+            reason: format!("value {i} is not finite"),
+        });
+    }
+    Ok(range)
+}
+
+/// Writes the configuration block of the joint named `name` into `q` (continuous joints by angle,
+/// spherical joints as quaternion x, y, z, w, floating joints as [x, y, z, qx, qy, qz, qw]).
+///
+/// # Errors
+/// [`KinematicsError::UnknownJoint`]; [`KinematicsError::InvalidJointValue`] for a fixed joint, a
+/// wrong number of values or a non-finite value; [`KinematicsError::DimensionMismatch`] for `q`.
+pub fn set_joint_q(
+    model: &Model,
+    q: &mut [f64],
+    name: &str,
+    values: &[f64],
+) -> Result<(), KinematicsError> {
+    check_len("q", q, model.nq())?;
+    let r = joint_block(model, name, values, false)?;
+    q[r].copy_from_slice(values);
+    Ok(())
+}
+
+/// Writes the velocity-space block (velocity, acceleration or effort) of the joint named `name`
+/// into `v` (floating joints: [linear; angular] in the child frame).
+///
+/// # Errors
+/// As [`set_joint_q`].
+pub fn set_joint_v(
+    model: &Model,
+    v: &mut [f64],
+    name: &str,
+    values: &[f64],
+) -> Result<(), KinematicsError> {
+    check_len("v", v, model.nv())?;
+    let r = joint_block(model, name, values, true)?;
+    v[r].copy_from_slice(values);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kinetree_model::{JointSpec, Link, ModelBuilder};
+    use rand::SeedableRng;
+
+    /// One joint of every kind in a chain.
+    pub(crate) fn every_kind() -> Model {
+        let mut b = ModelBuilder::new("kinds");
+        b.add_link(Link::new("l0"));
+        let kinds = [
+            JointKind::Revolute,
+            JointKind::Continuous,
+            JointKind::Prismatic,
+            JointKind::Cylindrical,
+            JointKind::Spherical,
+            JointKind::Planar,
+            JointKind::Floating,
+        ];
+        for (i, k) in kinds.iter().enumerate() {
+            b.add_link(Link::new(format!("l{}", i + 1)));
+            b.add_joint(
+                JointSpec::new(
+                    format!("j{}", i + 1),
+                    *k,
+                    format!("l{i}"),
+                    format!("l{}", i + 1),
+                )
+                .with_axis(DVec3::new(0.3, -0.5, 0.8))
+                .with_limits(kinetree_model::JointLimits::position(-2.0, 2.5))
+                .with_placement(Se3::from_xyz_rpy([0.1, 0.2, 0.3], [0.3, 0.2, 0.1])),
+            );
+        }
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn integrate_difference_round_trip_on_every_kind() {
+        let model = every_kind();
+        let mut rng = rand::rngs::SmallRng::seed_from_u64(7);
+        let (mut q0, mut q1) = (vec![0.0; model.nq()], vec![0.0; model.nq()]);
+        let mut v = vec![0.0; model.nv()];
+        let mut back = vec![0.0; model.nq()];
+        for _ in 0..50 {
+            random_configuration(&model, &mut rng, &mut q0).unwrap();
+            random_configuration(&model, &mut rng, &mut q1).unwrap();
+            difference(&model, &q0, &q1, &mut v).unwrap();
+            integrate(&model, &q0, &v, &mut back).unwrap();
+            // Compare through the joint's difference: zero means the same point on the manifold.
+            let mut residual = vec![0.0; model.nv()];
+            difference(&model, &q1, &back, &mut residual).unwrap();
+            assert!(residual.iter().all(|r| r.abs() < 1e-10), "{residual:?}");
+            assert!(is_within_limits(&model, &q0, 0.0).unwrap());
+        }
+    }
+
+    #[test]
+    fn interpolation_hits_both_ends() {
+        let model = every_kind();
+        let mut rng = rand::rngs::SmallRng::seed_from_u64(3);
+        let (mut q0, mut q1) = (vec![0.0; model.nq()], vec![0.0; model.nq()]);
+        random_configuration(&model, &mut rng, &mut q0).unwrap();
+        random_configuration(&model, &mut rng, &mut q1).unwrap();
+        let mut out = vec![0.0; model.nq()];
+        interpolate(&model, &q0, &q1, 0.0, &mut out).unwrap();
+        assert!(distance(&model, &out, &q0).unwrap() < 1e-12);
+        interpolate(&model, &q0, &q1, 1.0, &mut out).unwrap();
+        assert!(distance(&model, &out, &q1).unwrap() < 1e-10);
+        // Halfway is equidistant.
+        interpolate(&model, &q0, &q1, 0.5, &mut out).unwrap();
+        let (d0, d1) = (
+            distance(&model, &q0, &out).unwrap(),
+            distance(&model, &out, &q1).unwrap(),
+        );
+        assert!((d0 - d1).abs() < 1e-9, "{d0} vs {d1}");
+    }
+
+    #[test]
+    fn continuous_difference_takes_the_short_way() {
+        assert!((wrap_angle(3.0 * PI / 2.0) + PI / 2.0).abs() < 1e-15);
+        assert!((wrap_angle(-PI) - PI).abs() < 1e-15);
+        let mut out = [0.0];
+        difference_joint(JointKind::Continuous, &[3.0], &[-3.0], &mut out);
+        assert!((out[0] - (2.0 * PI - 6.0)).abs() < 1e-12);
+        difference_joint(JointKind::Revolute, &[3.0], &[-3.0], &mut out);
+        assert_eq!(out[0], -6.0);
+    }
+
+    #[test]
+    fn clamp_normalize_and_setters() {
+        let model = every_kind();
+        let mut q = neutral_configuration(&model);
+        set_joint_q(&model, &mut q, "j1", &[5.0]).unwrap();
+        clamp(&model, &mut q).unwrap();
+        assert_eq!(q[0], 2.5);
+        let fq = model.joint_q_range(model.joint_index("j7").unwrap());
+        set_joint_q(&model, &mut q, "j7", &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0]).unwrap();
+        normalize(&model, &mut q).unwrap();
+        assert_eq!(q[fq.end - 1], 1.0);
+        assert!(matches!(
+            set_joint_q(&model, &mut q, "nope", &[1.0]),
+            Err(KinematicsError::UnknownJoint { .. })
+        ));
+        assert!(matches!(
+            set_joint_q(&model, &mut q, "j7", &[1.0]),
+            Err(KinematicsError::InvalidJointValue { .. })
+        ));
+        let mut v = vec![0.0; model.nv()];
+        set_joint_v(&model, &mut v, "j4", &[1.0, 2.0]).unwrap();
+        assert_eq!(&v[3..5], &[1.0, 2.0]);
+    }
+}

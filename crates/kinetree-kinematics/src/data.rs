@@ -1,0 +1,221 @@
+//! [`KinematicsData`]: every buffer the kinematics algorithms write, allocated once per model.
+
+use crate::error::KinematicsError;
+use crate::joint_model::JointModel;
+use kinetree_model::Model;
+use kinetree_model::spatial::{Motion, Se3};
+
+/// Identifies a place whose pose the kinematics layer can report: a link or a named frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FrameId {
+    /// A link (index into [`Model::links`]).
+    Link(usize),
+    /// A named frame (index into [`Model::frames`]).
+    Frame(usize),
+}
+
+impl FrameId {
+    /// Looks `name` up among links first, then named frames.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownFrame`] when neither exists.
+    pub fn find(model: &Model, name: &str) -> Result<FrameId, KinematicsError> {
+        model
+            .link_index(name)
+            .map(FrameId::Link)
+            .or_else(|| model.frame_index(name).map(FrameId::Frame))
+            .ok_or_else(|| KinematicsError::UnknownFrame {
+                name: name.to_string(),
+            })
+    }
+
+    /// The body carrying this frame and the frame's pose in that body's frame.
+    #[must_use]
+    pub fn body(&self, model: &Model) -> (usize, Se3) {
+        match *self {
+            FrameId::Link(l) => {
+                let (b, p) = model.link_body(l);
+                (b, *p)
+            }
+            FrameId::Frame(f) => model.frame_body(f),
+        }
+    }
+
+    /// The frame's name.
+    #[must_use]
+    pub fn name<'m>(&self, model: &'m Model) -> &'m str {
+        match *self {
+            FrameId::Link(l) => &model.link(l).name,
+            FrameId::Frame(f) => &model.frames()[f].name,
+        }
+    }
+}
+
+/// The buffers of the kinematics algorithms for one [`Model`]: body, link and frame placements,
+/// body velocities and accelerations, joint Jacobians.
+///
+/// Create it once with [`KinematicsData::new`]; no algorithm of this crate allocates afterwards.
+/// A `KinematicsData` must only be used with the model it was created for (checked at entry of
+/// every algorithm by comparing sizes).
+#[derive(Clone, Debug)]
+pub struct KinematicsData {
+    pub(crate) nq: usize,
+    pub(crate) nv: usize,
+    pub(crate) joint_models: Vec<JointModel>,
+    /// Body of each velocity coordinate.
+    pub(crate) dof_body: Vec<usize>,
+    pub(crate) parent_from_body: Vec<Se3>,
+    pub(crate) world_from_body: Vec<Se3>,
+    pub(crate) body_velocity: Vec<Motion>,
+    pub(crate) body_acceleration: Vec<Motion>,
+    pub(crate) world_from_link: Vec<Se3>,
+    pub(crate) world_from_frame: Vec<Se3>,
+    /// Joint Jacobian columns in the world frame (twists at the world origin), one per DoF.
+    pub(crate) jacobian: Vec<Motion>,
+    /// Time derivatives of `jacobian`'s columns.
+    pub(crate) jacobian_dot: Vec<Motion>,
+    /// Body velocities in the world frame (at the world origin), for `jacobian_dot`.
+    pub(crate) world_velocity: Vec<Motion>,
+    /// The configuration of the last forward kinematics (for consumers such as the Chain API).
+    pub(crate) q: Vec<f64>,
+    pub(crate) v: Vec<f64>,
+}
+
+impl KinematicsData {
+    /// Allocates every buffer for `model`. Placements start at the model's zero configuration
+    /// only after a forward kinematics call.
+    #[must_use]
+    pub fn new(model: &Model) -> Self {
+        let nb = model.nbodies();
+        let mut dof_body = vec![0; model.nv()];
+        for (i, b) in model.bodies().iter().enumerate() {
+            for d in dof_body[b.idx_v..b.idx_v + b.nv].iter_mut() {
+                *d = i;
+            }
+        }
+        Self {
+            nq: model.nq(),
+            nv: model.nv(),
+            joint_models: model.bodies().iter().map(JointModel::from_body).collect(),
+            dof_body,
+            parent_from_body: vec![Se3::IDENTITY; nb],
+            world_from_body: vec![Se3::IDENTITY; nb],
+            body_velocity: vec![Motion::ZERO; nb],
+            body_acceleration: vec![Motion::ZERO; nb],
+            world_from_link: vec![Se3::IDENTITY; model.links().len()],
+            world_from_frame: vec![Se3::IDENTITY; model.frames().len()],
+            jacobian: vec![Motion::ZERO; model.nv()],
+            jacobian_dot: vec![Motion::ZERO; model.nv()],
+            world_velocity: vec![Motion::ZERO; nb],
+            q: vec![0.0; model.nq()],
+            v: vec![0.0; model.nv()],
+        }
+    }
+
+    /// Checks that this data belongs to `model`.
+    ///
+    /// # Errors
+    /// [`KinematicsError::DataMismatch`].
+    pub fn check_model(&self, model: &Model) -> Result<(), KinematicsError> {
+        if self.joint_models.len() != model.nbodies()
+            || self.nv != model.nv()
+            || self.nq != model.nq()
+            || self.world_from_link.len() != model.links().len()
+            || self.world_from_frame.len() != model.frames().len()
+        {
+            return Err(KinematicsError::DataMismatch {
+                data_bodies: self.joint_models.len(),
+                data_nv: self.nv,
+                model_bodies: model.nbodies(),
+                model_nv: model.nv(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The specialised joint model of each body (index 0 is the world).
+    #[inline]
+    #[must_use]
+    pub fn joint_models(&self) -> &[JointModel] {
+        &self.joint_models
+    }
+
+    /// The body that owns each velocity coordinate.
+    #[inline]
+    #[must_use]
+    pub fn dof_body(&self) -> &[usize] {
+        &self.dof_body
+    }
+
+    /// `parent_from_body` of each body at the last configuration (Pinocchio's `liMi`).
+    #[inline]
+    #[must_use]
+    pub fn parent_from_body(&self) -> &[Se3] {
+        &self.parent_from_body
+    }
+
+    /// `world_from_body` of each body at the last configuration (Pinocchio's `oMi`).
+    #[inline]
+    #[must_use]
+    pub fn world_from_body(&self) -> &[Se3] {
+        &self.world_from_body
+    }
+
+    /// World placement of every link, written by forward kinematics.
+    #[inline]
+    #[must_use]
+    pub fn world_from_link(&self) -> &[Se3] {
+        &self.world_from_link
+    }
+
+    /// World placement of every named frame, written by
+    /// [`update_frame_placements`](crate::update_frame_placements).
+    #[inline]
+    #[must_use]
+    pub fn world_from_frame(&self) -> &[Se3] {
+        &self.world_from_frame
+    }
+
+    /// World placement of a link or named frame (named frames need
+    /// [`update_frame_placements`](crate::update_frame_placements) first).
+    #[inline]
+    #[must_use]
+    pub fn world_placement(&self, frame: FrameId) -> &Se3 {
+        match frame {
+            FrameId::Link(l) => &self.world_from_link[l],
+            FrameId::Frame(f) => &self.world_from_frame[f],
+        }
+    }
+
+    /// Spatial velocity of each body in its own frame (written when forward kinematics is given `v`).
+    #[inline]
+    #[must_use]
+    pub fn body_velocity(&self) -> &[Motion] {
+        &self.body_velocity
+    }
+
+    /// Spatial acceleration of each body in its own frame (written when forward kinematics is
+    /// given `v` and `a`). This is the derivative of the body twist, not the classical
+    /// acceleration of the body origin.
+    #[inline]
+    #[must_use]
+    pub fn body_acceleration(&self) -> &[Motion] {
+        &self.body_acceleration
+    }
+
+    /// Joint Jacobian columns in the world frame (written by
+    /// [`compute_joint_jacobians`](crate::compute_joint_jacobians)): column `k` is the twist, at
+    /// the world origin in world axes, produced by a unit velocity of coordinate `k`.
+    #[inline]
+    #[must_use]
+    pub fn joint_jacobians(&self) -> &[Motion] {
+        &self.jacobian
+    }
+
+    /// The configuration of the last forward kinematics call.
+    #[inline]
+    #[must_use]
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+}

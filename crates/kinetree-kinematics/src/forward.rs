@@ -1,0 +1,170 @@
+//! Forward kinematics: world placements of bodies, links and frames; body velocities and
+//! accelerations.
+
+use crate::data::{FrameId, KinematicsData};
+use crate::error::{KinematicsError, check_vector};
+use kinetree_model::Model;
+use kinetree_model::spatial::{Motion, Se3};
+
+/// Computes the world placement of every body and link for configuration `q` (length
+/// `model.nq()`).
+///
+/// Results are stored in `data`: [`KinematicsData::world_from_body`],
+/// [`KinematicsData::world_from_link`]. Allocates nothing.
+///
+/// # Errors
+/// [`KinematicsError::DimensionMismatch`] or [`KinematicsError::NonFinite`] for a bad `q`,
+/// [`KinematicsError::DataMismatch`] when `data` belongs to another model.
+///
+/// # Examples
+/// ```
+/// use kinetree_kinematics::{forward_kinematics, FrameId, KinematicsData};
+/// use kinetree_model::{Model, RootJoint};
+/// # fn main() -> Result<(), kinetree_kinematics::KinematicsError> {
+/// let urdf = r#"<robot name="arm"><link name="base"/><link name="tip"/>
+///   <joint name="j" type="revolute"><parent link="base"/><child link="tip"/>
+///     <origin xyz="1 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+/// </robot>"#;
+/// let model = Model::from_urdf_str(urdf, RootJoint::Fixed)?;
+/// let mut data = KinematicsData::new(&model);
+/// forward_kinematics(&model, &mut data, &[std::f64::consts::FRAC_PI_2])?;
+/// let tip = data.world_placement(FrameId::find(&model, "tip")?);
+/// // The tip frame sits at x = 1, turned 90° about z: its x axis points along world y.
+/// assert!((tip.translation.x - 1.0).abs() < 1e-15);
+/// assert!((tip.rotation.x_axis.y - 1.0).abs() < 1e-15);
+/// # Ok(())
+/// # }
+/// ```
+pub fn forward_kinematics(
+    model: &Model,
+    data: &mut KinematicsData,
+    q: &[f64],
+) -> Result<(), KinematicsError> {
+    data.check_model(model)?;
+    check_vector("q", q, model.nq())?;
+    placements(model, data, q);
+    link_placements(model, data);
+    Ok(())
+}
+
+/// Forward kinematics with velocities: as [`forward_kinematics`], and the spatial velocity of each
+/// body in its own frame ([`KinematicsData::body_velocity`]) for joint velocity `v` (length
+/// `model.nv()`).
+///
+/// # Errors
+/// As [`forward_kinematics`], for `q` and `v`.
+pub fn forward_kinematics_with_velocity(
+    model: &Model,
+    data: &mut KinematicsData,
+    q: &[f64],
+    v: &[f64],
+) -> Result<(), KinematicsError> {
+    data.check_model(model)?;
+    check_vector("q", q, model.nq())?;
+    check_vector("v", v, model.nv())?;
+    placements(model, data, q);
+    let bodies = model.bodies();
+    data.v.copy_from_slice(v);
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        let vj = data.joint_models[i].motion(&v[b.idx_v..b.idx_v + b.nv]);
+        let parent_v = data.parent_from_body[i].act_inv_motion(&data.body_velocity[b.parent]);
+        data.body_velocity[i] = parent_v + vj;
+    }
+    link_placements(model, data);
+    Ok(())
+}
+
+/// Forward kinematics with velocities and accelerations: as
+/// [`forward_kinematics_with_velocity`], and the spatial acceleration of each body in its own
+/// frame ([`KinematicsData::body_acceleration`]) for joint acceleration `a` (length `model.nv()`).
+/// Gravity is not included.
+///
+/// # Errors
+/// As [`forward_kinematics`], for `q`, `v` and `a`.
+pub fn forward_kinematics_with_acceleration(
+    model: &Model,
+    data: &mut KinematicsData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> Result<(), KinematicsError> {
+    check_vector("a", a, model.nv())?;
+    forward_kinematics_with_velocity(model, data, q, v)?;
+    let bodies = model.bodies();
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        let jm = &data.joint_models[i];
+        let aj = jm.motion(&a[b.idx_v..b.idx_v + b.nv]);
+        let vj = jm.motion(&v[b.idx_v..b.idx_v + b.nv]);
+        let parent_a = data.parent_from_body[i].act_inv_motion(&data.body_acceleration[b.parent]);
+        data.body_acceleration[i] = parent_a + aj + data.body_velocity[i].cross_motion(&vj);
+    }
+    Ok(())
+}
+
+/// The body sweep shared by every variant: `parent_from_body` and `world_from_body`.
+#[inline]
+pub(crate) fn placements(model: &Model, data: &mut KinematicsData, q: &[f64]) {
+    let bodies = model.bodies();
+    data.q.copy_from_slice(q);
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        let local =
+            data.joint_models[i].placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        data.parent_from_body[i] = local;
+        data.world_from_body[i] = if b.parent == 0 {
+            local
+        } else {
+            data.world_from_body[b.parent] * local
+        };
+    }
+}
+
+#[inline]
+fn link_placements(model: &Model, data: &mut KinematicsData) {
+    for (l, out) in data.world_from_link.iter_mut().enumerate() {
+        let (b, body_from_link) = model.link_body(l);
+        *out = data.world_from_body[b] * *body_from_link;
+    }
+}
+
+/// Updates the world placement of every named frame from the last forward kinematics
+/// ([`KinematicsData::world_from_frame`]). Allocates nothing.
+///
+/// # Errors
+/// [`KinematicsError::DataMismatch`] when `data` belongs to another model.
+pub fn update_frame_placements(
+    model: &Model,
+    data: &mut KinematicsData,
+) -> Result<(), KinematicsError> {
+    data.check_model(model)?;
+    for (f, out) in data.world_from_frame.iter_mut().enumerate() {
+        let frame = &model.frames()[f];
+        *out = data.world_from_link[frame.link] * frame.placement;
+    }
+    Ok(())
+}
+
+/// The pose of frame `b` in frame `a` (`a_from_b`) from the last forward kinematics (and
+/// [`update_frame_placements`] for named frames).
+#[must_use]
+pub fn relative_transform(data: &KinematicsData, a: FrameId, b: FrameId) -> Se3 {
+    data.world_placement(a).inv_mul(data.world_placement(b))
+}
+
+/// The spatial velocity of a link or frame from the last
+/// [`forward_kinematics_with_velocity`], in the given reference frame
+/// (see [`ReferenceFrame`](crate::ReferenceFrame)).
+#[must_use]
+pub fn frame_velocity(
+    model: &Model,
+    data: &KinematicsData,
+    frame: FrameId,
+    reference: crate::ReferenceFrame,
+) -> Motion {
+    let (b, body_from_frame) = frame.body(model);
+    let local = body_from_frame.act_inv_motion(&data.body_velocity[b]);
+    let world_from_frame = data.world_from_body[b] * body_from_frame;
+    crate::jacobian::change_reference(&world_from_frame, &local, reference)
+}

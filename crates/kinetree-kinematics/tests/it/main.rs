@@ -1,0 +1,6 @@
+//! Integration tests of the kinematics layer.
+
+mod allocation;
+mod common;
+mod finite_differences;
+mod reference;
