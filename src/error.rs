@@ -24,8 +24,15 @@ pub enum Error {
     #[cfg(feature = "model")]
     #[error(transparent)]
     Model(#[from] crate::model::ModelError),
+    /// A kinematics algorithm rejected its input.
+    #[cfg(feature = "kinematics")]
+    #[error(transparent)]
+    Kinematics(#[from] crate::kinematics::KinematicsError),
+    /// A batch request (`kinetree compute` input) is malformed; the message names the sample.
+    #[cfg(feature = "kinematics")]
+    #[error("{0}")]
+    Batch(String),
     // The other layers' errors join here as those crates gain them, each behind its feature:
-    //   #[cfg(feature = "kinematics")] #[error(transparent)] Kinematics(#[from] crate::kinematics::KinematicsError),
     //   #[cfg(feature = "dynamics")]   #[error(transparent)] Dynamics(#[from] crate::dynamics::DynamicsError),
     //   #[cfg(feature = "collision")]  #[error(transparent)] Collision(#[from] crate::collision::CollisionError),
     // A layer error that wraps the one below (KinematicsError::Model) stays in its own variant:

@@ -28,6 +28,8 @@ pub use kinetree_dynamics as dynamics;
 #[cfg(feature = "collision")]
 pub use kinetree_collision as collision;
 
+#[cfg(feature = "kinematics")]
+pub mod batch;
 mod error;
 
 pub use error::Error;

@@ -1,13 +1,235 @@
-//! `cargo xtask regress`: compare kinetree against the reference values in
-//! `tests/data/reference/*.json` and print the table of worst errors.
+//! `cargo xtask regress`: runs every reference robot's samples through kinetree's batch evaluator
+//! (the same code as `kinetree compute`) and compares the results with Pinocchio's values in
+//! `tests/data/reference/*.json`, printing one table of worst errors (robot × quantity).
 //!
-//! Not written yet: it lands with the kinematics layer (which has quantities to compare). When it
-//! does, add a `#[test]` here that runs it so that `cargo test --workspace` covers it, as
-//! `layers::tests::workspace_respects_the_layers` does for the layer check.
+//! Vectors and matrices are mapped by joint name through the reference's `joints` table (Pinocchio
+//! orders child joints by name; kinetree keeps its own order). The same check runs under
+//! `cargo test` (see the test at the bottom).
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
+use kinetree::batch::{BatchOptions, evaluate};
+use kinetree::model::{Model, RootJoint};
+use serde_json::Value;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::Path;
 
-/// Runs the regression suite.
-pub(crate) fn run(_args: &[String]) -> Result<()> {
-    bail!("`cargo xtask regress` is not written yet: it arrives with kinetree-kinematics")
+/// How a quantity's error is judged.
+#[derive(Clone, Copy, Debug)]
+enum Tolerance {
+    /// Every entry within this absolute error.
+    Absolute(f64),
+}
+
+/// Worst errors of one quantity of one robot.
+#[derive(Clone, Debug)]
+pub(crate) struct Row {
+    pub(crate) robot: String,
+    pub(crate) quantity: &'static str,
+    pub(crate) worst_abs: f64,
+    /// Worst error divided by the largest reference magnitude of that quantity in the sample.
+    pub(crate) worst_rel: f64,
+    tolerance: Tolerance,
+    pub(crate) entries: usize,
+}
+
+impl Row {
+    fn new(robot: &str, quantity: &'static str, tolerance: Tolerance) -> Self {
+        Self {
+            robot: robot.to_string(),
+            quantity,
+            worst_abs: 0.0,
+            worst_rel: 0.0,
+            tolerance,
+            entries: 0,
+        }
+    }
+
+    /// Records one sample's pairs (ours, reference).
+    fn record(&mut self, pairs: &[(f64, f64)]) {
+        let scale = pairs.iter().fold(0.0f64, |m, (_, r)| m.max(r.abs()));
+        for (ours, reference) in pairs {
+            // A NaN never compares as small: record it as an infinite error.
+            let err = if ours.is_finite() {
+                (ours - reference).abs()
+            } else {
+                f64::INFINITY
+            };
+            self.worst_abs = self.worst_abs.max(err);
+            if scale > 0.0 {
+                self.worst_rel = self.worst_rel.max(err / scale);
+            }
+        }
+        self.entries += pairs.len();
+    }
+
+    pub(crate) fn passed(&self) -> bool {
+        self.entries > 0
+            && match self.tolerance {
+                Tolerance::Absolute(t) => self.worst_abs <= t,
+            }
+    }
+
+    fn tolerance_text(&self) -> String {
+        match self.tolerance {
+            Tolerance::Absolute(t) => format!("{t:.0e} abs"),
+        }
+    }
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or(f64::NAN)
+}
+
+/// Compares one robot; returns its rows.
+pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
+    let text =
+        std::fs::read_to_string(file).with_context(|| format!("cannot read {}", file.display()))?;
+    let reference: Value =
+        serde_json::from_str(&text).with_context(|| format!("cannot parse {}", file.display()))?;
+    let robot = reference["robot"].as_str().unwrap_or("?").to_string();
+    let root_joint = match reference["root_joint"].as_str() {
+        Some("fixed") => RootJoint::Fixed,
+        _ => RootJoint::Floating,
+    };
+    let urdf = root
+        .join("tests/data/reference")
+        .join(reference["urdf"].as_str().unwrap_or_default());
+    let model = Model::from_urdf_file(&urdf, root_joint)?;
+    let jacobian_links: Vec<String> = reference["jacobian_links"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|x| x.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    let options = BatchOptions {
+        jacobians: jacobian_links.clone(),
+    };
+    let response = evaluate(&model, &reference, &options)
+        .with_context(|| format!("{robot}: evaluation failed"))?;
+
+    // Our v column of each of Pinocchio's v columns, by joint name.
+    let ours_idx: HashMap<&str, usize> = response["model"]["joints"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|j| Some((j["name"].as_str()?, j["idx_v"].as_u64()? as usize)))
+        .collect();
+    let mut column_map = Vec::new(); // (ours, theirs)
+    for j in reference["joints"].as_array().into_iter().flatten() {
+        let name = j["name"].as_str().unwrap_or_default();
+        let Some(&ours) = ours_idx.get(name) else {
+            bail!("{robot}: joint '{name}' missing from kinetree's model")
+        };
+        let (theirs, nv) = (
+            j["idx_v"].as_u64().unwrap_or(0) as usize,
+            j["nv"].as_u64().unwrap_or(0) as usize,
+        );
+        for k in 0..nv {
+            column_map.push((ours + k, theirs + k));
+        }
+    }
+
+    let mut poses = Row::new(&robot, "link_poses", Tolerance::Absolute(1e-9));
+    let mut jacobians = Row::new(&robot, "jacobians", Tolerance::Absolute(1e-9));
+    let samples = reference["samples"]
+        .as_array()
+        .map(Vec::as_slice)
+        .unwrap_or_default();
+    for (sample, ours) in samples
+        .iter()
+        .zip(response["samples"].as_array().into_iter().flatten())
+    {
+        let mut pairs = Vec::new();
+        for (link, pose) in sample["link_poses"].as_object().into_iter().flatten() {
+            let got = &ours["link_poses"][link];
+            for i in 0..3 {
+                pairs.push((f(&got["translation"][i]), f(&pose["translation"][i])));
+                for j in 0..3 {
+                    pairs.push((f(&got["rotation"][i][j]), f(&pose["rotation"][i][j])));
+                }
+            }
+        }
+        poses.record(&pairs);
+        for (link, expected) in sample["jacobians"].as_object().into_iter().flatten() {
+            let got = &ours["jacobians"][link];
+            let mut pairs = Vec::new();
+            for r in 0..6 {
+                for &(o, t) in &column_map {
+                    pairs.push((f(&got[r][o]), f(&expected[r][t])));
+                }
+            }
+            jacobians.record(&pairs);
+        }
+    }
+    Ok(vec![poses, jacobians])
+}
+
+/// Runs every reference file and returns all rows.
+pub(crate) fn check_all(root: &Path) -> Result<Vec<Row>> {
+    let dir = root.join("tests/data/reference");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .with_context(|| format!("cannot list {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        bail!("no reference files in {}", dir.display());
+    }
+    let mut rows = Vec::new();
+    for file in files {
+        rows.extend(check_robot(root, &file)?);
+    }
+    Ok(rows)
+}
+
+/// The table, one line per robot × quantity.
+pub(crate) fn table(rows: &[Row]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<16} {:<20} {:>12} {:>12} {:>10} {:>8}  result",
+        "robot", "quantity", "worst abs", "worst rel", "tolerance", "entries"
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{:<16} {:<20} {:>12.3e} {:>12.3e} {:>10} {:>8}  {}",
+            r.robot,
+            r.quantity,
+            r.worst_abs,
+            r.worst_rel,
+            r.tolerance_text(),
+            r.entries,
+            if r.passed() { "pass" } else { "FAIL" }
+        );
+    }
+    s
+}
+
+/// Runs the regression suite and prints the table; fails when any quantity fails.
+pub(crate) fn run(args: &[String]) -> Result<()> {
+    crate::no_args("regress", args)?;
+    let rows = check_all(&crate::project_root())?;
+    print!("{}", table(&rows));
+    let failed = rows.iter().filter(|r| !r.passed()).count();
+    if failed > 0 {
+        bail!("{failed} of {} checks failed", rows.len());
+    }
+    println!("all {} checks passed", rows.len());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn regression_suite_passes() {
+        let rows = super::check_all(&crate::project_root()).unwrap();
+        let table = super::table(&rows);
+        assert!(rows.len() >= 14, "{table}");
+        assert!(rows.iter().all(super::Row::passed), "{table}");
+    }
 }
