@@ -1,1 +1,79 @@
-fn main() {}
+//! `kinetree`: the command-line face of the kinetree library.
+//!
+//! One module per command under `cmd/`; each has an `Args` struct (clap derive) and a `run`
+//! function returning `anyhow::Result<()>`. Errors are printed with their context chain (which
+//! names the file involved) and the process exits with code 1; bad input never panics.
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+mod cmd;
+mod table;
+
+/// Kinematics, dynamics and collision of articulated rigid bodies (URDF and JSON robots).
+#[derive(Debug, Parser)]
+#[command(name = "kinetree", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Print a model's tree, dimensions, joint table, masses, frames and load warnings.
+    Inspect(cmd::inspect::Args),
+    // Later commands slot in here, one module each: compute, bench, dynamics, ik, workspace,
+    // collide, simulate.
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Inspect(args) => cmd::inspect::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", message(&e));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The error and its causes on one line, `outer: inner: …`, leaving out a cause whose text the
+/// message already ends with (some errors print their source in their own message too).
+fn message(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if out.ends_with(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use anyhow::Context;
+
+    #[test]
+    fn causes_already_in_the_message_are_not_repeated() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "no such file");
+        let e = Err::<(), _>(io)
+            .context("cannot access a.urdf: no such file")
+            .context("cannot load a.urdf")
+            .unwrap_err();
+        assert_eq!(
+            message(&e),
+            "cannot load a.urdf: cannot access a.urdf: no such file"
+        );
+        let e = anyhow::anyhow!("inner").context("outer");
+        assert_eq!(message(&e), "outer: inner");
+    }
+}

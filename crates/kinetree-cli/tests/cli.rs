@@ -1,0 +1,188 @@
+//! End-to-end tests of the `kinetree` binary: run it as a user would and read what it prints.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn kinetree(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kinetree"))
+        .args(args)
+        .output()
+        .expect("the kinetree binary runs")
+}
+
+fn panda() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/robots/panda.urdf")
+        .display()
+        .to_string()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The line of `text` that starts (after indentation) with `first_word`, split into words.
+fn row<'a>(text: &'a str, first_word: &str) -> Vec<&'a str> {
+    text.lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>())
+        .find(|w| w.first() == Some(&first_word))
+        .unwrap_or_else(|| panic!("no line starting with {first_word} in:\n{text}"))
+}
+
+/// The part of the report from the line starting with `header` to the next blank line.
+fn section<'a>(text: &'a str, header: &str) -> &'a str {
+    let start = text
+        .find(&format!("\n{header}"))
+        .unwrap_or_else(|| panic!("no section {header} in:\n{text}"));
+    let rest = &text[start + 1..];
+    rest.find("\n\n").map_or(rest, |end| &rest[..end])
+}
+
+/// A scratch folder for this test process, removed by the caller.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("kinetree-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn inspect_prints_the_panda() {
+    let out = kinetree(&["inspect", &panda()]);
+    let text = stdout(&out);
+    assert!(out.status.success(), "stderr: {}", stderr(&out));
+    assert!(text.starts_with("panda (nq = 9, nv = 9)\n"), "{text}");
+    assert!(text.contains("nq = 9, nv = 9; 13 links, 12 joints (9 moving), 10 bodies"));
+    // The tree: the hand carries both fingers.
+    assert!(
+        text.contains(
+            "\n                      panda_leftfinger <- panda_finger_joint1 (prismatic)\n"
+        )
+    );
+    // Joint table: name, type, parent → child, axis, lower, upper, velocity, effort, idx_q, idx_v.
+    assert_eq!(
+        row(section(&text, "joints"), "panda_joint4"),
+        [
+            "panda_joint4",
+            "revolute",
+            "panda_link3",
+            "→",
+            "panda_link4",
+            "[0,",
+            "0,",
+            "1]",
+            "-3.0718",
+            "-0.0698",
+            "2.175",
+            "87",
+            "3",
+            "3"
+        ]
+    );
+    assert_eq!(
+        row(section(&text, "joints"), "panda_finger_joint2")[5..],
+        ["[0,", "-1,", "0]", "0", "0.04", "0.2", "100", "8", "8"]
+    );
+    assert_eq!(
+        row(section(&text, "joints"), "panda_hand_joint")[1..],
+        [
+            "fixed",
+            "panda_link8",
+            "→",
+            "panda_hand",
+            "-",
+            "-",
+            "-",
+            "-",
+            "-",
+            "-",
+            "-"
+        ]
+    );
+    // Masses: per link and in total (sum of the URDF's masses).
+    assert_eq!(row(section(&text, "links"), "panda_link1")[1], "4.970684");
+    assert!(text.contains("total mass: 17.451901 kg"), "{text}");
+    assert!(text.contains("ignored elements (7, not modelled by kinetree)"));
+    assert!(text.contains("warnings (0):\n  none\n"));
+}
+
+#[test]
+fn inspect_floating_adds_the_root_joint() {
+    let out = kinetree(&["inspect", "--floating", &panda()]);
+    let text = stdout(&out);
+    assert!(out.status.success(), "stderr: {}", stderr(&out));
+    assert!(text.starts_with("panda (nq = 16, nv = 15)\n"), "{text}");
+    assert_eq!(
+        row(section(&text, "joints"), "root_joint"),
+        [
+            "root_joint",
+            "floating",
+            "world",
+            "→",
+            "panda_link0",
+            "-",
+            "-",
+            "-",
+            "inf",
+            "inf",
+            "0",
+            "0"
+        ]
+    );
+    // The arm's blocks move down by the floating joint's 7/6.
+    assert_eq!(
+        row(section(&text, "joints"), "panda_joint1")[12..],
+        ["7", "6"]
+    );
+}
+
+#[test]
+fn a_malformed_file_fails_with_its_name_and_no_panic() {
+    let dir = scratch("malformed");
+    let file = dir.join("broken_robot.urdf");
+    std::fs::write(&file, "<robot name=\"broken\"><link name=\"a\">").unwrap();
+    let out = kinetree(&["inspect", &file.display().to_string()]);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "stderr: {err}");
+    assert!(err.starts_with("error: cannot load "), "{err}");
+    assert!(err.contains("broken_robot.urdf"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(stdout(&out).is_empty());
+}
+
+#[test]
+fn an_invalid_tree_names_the_joint() {
+    let dir = scratch("invalid");
+    let file = dir.join("dangling.urdf");
+    std::fs::write(
+        &file,
+        r#"<robot name="dangling"><link name="a"/>
+           <joint name="j1" type="revolute"><parent link="a"/><child link="nowhere"/></joint>
+           </robot>"#,
+    )
+    .unwrap();
+    let out = kinetree(&["inspect", &file.display().to_string()]);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "stderr: {err}");
+    assert!(err.contains("dangling.urdf"), "{err}");
+    assert!(err.contains("'j1'") && err.contains("'nowhere'"), "{err}");
+}
+
+#[test]
+fn a_missing_file_or_unknown_format_is_an_error() {
+    let out = kinetree(&["inspect", "no/such/robot.urdf"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(err.contains("no/such/robot.urdf"), "{err}");
+    // The OS message appears once, not repeated by the error chain.
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+
+    let out = kinetree(&["inspect", "robot.step"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("robot.step"), "{}", stderr(&out));
+}
