@@ -69,6 +69,9 @@ pub struct KinematicsData {
     pub(crate) body_velocity: Vec<Motion>,
     pub(crate) body_acceleration: Vec<Motion>,
     pub(crate) world_from_link: Vec<Se3>,
+    /// Per link: its body, and whether the link frame is the body frame (placement copied, not
+    /// multiplied).
+    pub(crate) link_on_body_frame: Vec<bool>,
     pub(crate) world_from_frame: Vec<Se3>,
     /// Joint Jacobian columns in the world frame (twists at the world origin), one per DoF.
     pub(crate) jacobian: Vec<Motion>,
@@ -103,6 +106,7 @@ impl KinematicsData {
             body_velocity: vec![Motion::ZERO; nb],
             body_acceleration: vec![Motion::ZERO; nb],
             world_from_link: vec![Se3::IDENTITY; model.links().len()],
+            link_on_body_frame: (0..model.links().len()).map(|l| *model.link_body(l).1 == Se3::IDENTITY).collect(),
             world_from_frame: vec![Se3::IDENTITY; model.frames().len()],
             jacobian: vec![Motion::ZERO; model.nv()],
             jacobian_dot: vec![Motion::ZERO; model.nv()],

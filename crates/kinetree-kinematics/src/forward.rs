@@ -125,7 +125,11 @@ pub(crate) fn placements(model: &Model, data: &mut KinematicsData, q: &[f64]) {
 fn link_placements(model: &Model, data: &mut KinematicsData) {
     for (l, out) in data.world_from_link.iter_mut().enumerate() {
         let (b, body_from_link) = model.link_body(l);
-        *out = data.world_from_body[b] * *body_from_link;
+        *out = if data.link_on_body_frame[l] {
+            data.world_from_body[b]
+        } else {
+            data.world_from_body[b] * *body_from_link
+        };
     }
 }
 

@@ -156,6 +156,8 @@ impl JointModel {
             Self::PrismaticZ => Se3::new(*r, placement.translation + r.z_axis * q[0]),
             Self::Prismatic(a) => Se3::new(*r, placement.translation + *r * (a * q[0])),
             Self::Fixed => *placement,
+            // Floating roots and many ball joints sit at the identity: skip the product.
+            _ if *placement == Se3::IDENTITY => self.transform(q),
             _ => *placement * self.transform(q),
         }
     }
