@@ -191,6 +191,7 @@ pub struct ModelBuilder {
     root_joint: RootJoint,
     gravity: Option<DVec3>,
     ignored: Vec<String>,
+    warnings: Vec<Issue>,
     inertia_check: InertiaCheck,
 }
 
@@ -253,7 +254,18 @@ impl ModelBuilder {
         self
     }
 
+    /// Records a problem that a loader repaired instead of rejecting (reported by
+    /// [`Model::warnings`]).
+    pub(crate) fn note_warning(&mut self, issue: Issue) -> &mut Self {
+        self.warnings.push(issue);
+        self
+    }
+
     /// Validates and builds the model.
+    ///
+    /// A builder without any link gives the empty model (no link, no joint, `nq = nv = 0`,
+    /// [`Model::root_link`] `None`, root joint [`RootJoint::Fixed`] whatever was asked, since
+    /// there is nothing to attach a floating joint to).
     ///
     /// # Errors
     /// [`ModelError::Invalid`] listing every problem found: unknown or duplicate names, several
@@ -261,10 +273,6 @@ impl ModelBuilder {
     /// inertias, unknown mimic targets and parent frames.
     pub fn build(&self) -> Result<Model, ModelError> {
         let mut issues = Vec::new();
-        if self.links.is_empty() {
-            issues.push(Issue::Empty);
-            return Err(self.invalid(issues));
-        }
 
         let link_names = unique_names(
             self.links.iter().map(|l| l.name.as_str()),
@@ -417,8 +425,8 @@ impl ModelBuilder {
             .filter(|&l| parent_joint[l].is_empty())
             .collect();
         match roots.len() {
-            0 => issues.push(Issue::NoRoot),
-            1 => {}
+            0 if !self.links.is_empty() => issues.push(Issue::NoRoot),
+            0 | 1 => {}
             _ => issues.push(Issue::MultipleRoots {
                 links: roots.iter().map(|&l| self.links[l].name.clone()).collect(),
             }),
@@ -486,7 +494,8 @@ impl ModelBuilder {
             return Err(self.invalid(issues));
         }
         let mut model = self.assemble(&link_order, &joint_order, &link_names, &frame_names);
-        model.warnings = warnings;
+        model.warnings = self.warnings.clone();
+        model.warnings.append(&mut warnings);
         Ok(model)
     }
 
@@ -505,7 +514,8 @@ impl ModelBuilder {
         link_names_in: &HashMap<String, usize>,
         frame_names_in: &HashMap<String, usize>,
     ) -> Model {
-        let floating = self.root_joint == RootJoint::Floating;
+        // An empty model has nothing to attach a floating joint to.
+        let floating = self.root_joint == RootJoint::Floating && !link_order.is_empty();
         // New link index of each input link.
         let mut new_link = vec![0usize; self.links.len()];
         for (new, &old) in link_order.iter().enumerate() {
@@ -646,7 +656,11 @@ impl ModelBuilder {
             links,
             joints,
             frames,
-            root_joint: self.root_joint,
+            root_joint: if floating {
+                RootJoint::Floating
+            } else {
+                RootJoint::Fixed
+            },
             link_parent_joint,
             link_child_joints,
             bodies,

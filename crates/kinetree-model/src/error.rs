@@ -73,6 +73,32 @@ pub enum ModelError {
         /// What went wrong.
         message: String,
     },
+    /// The format of a model file cannot be told from its extension or its content.
+    #[error("cannot tell the format of {}: expected a .urdf, .xml or .json file", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A joint kind that the target format cannot express (URDF has no cylindrical joint).
+    #[error("joint '{joint}' is {kind}, which {format} cannot express")]
+    UnsupportedJoint {
+        /// The target format, e.g. `"URDF"`.
+        format: &'static str,
+        /// The joint.
+        joint: String,
+        /// Its kind.
+        kind: crate::JointKind,
+    },
+    /// An input slice has the wrong length.
+    #[error("{what}: expected length {expected}, got {actual}")]
+    Length {
+        /// What the slice holds.
+        what: &'static str,
+        /// The required length.
+        expected: usize,
+        /// The length given.
+        actual: usize,
+    },
     /// A Denavit–Hartenberg table is not usable.
     #[error("DH table row {row}: {message}")]
     DhTable {
@@ -141,8 +167,6 @@ impl fmt::Display for ItemKind {
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Issue {
-    /// The model has no link.
-    Empty,
     /// Two items of the same kind share a name.
     DuplicateName {
         /// Links, joints or frames.
@@ -274,7 +298,6 @@ pub enum Issue {
 impl fmt::Display for Issue {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Empty => write!(f, "the model has no link"),
             Self::DuplicateName { kind, name } => write!(f, "duplicate {kind} name '{name}'"),
             Self::UnknownParent { joint, link } => {
                 write!(f, "joint '{joint}' has unknown parent link '{link}'")

@@ -37,17 +37,23 @@
 //! failed load returns nothing half-built.
 
 mod builder;
+mod compare;
+pub mod dh;
 mod error;
 mod frame;
 mod joint;
+pub mod json;
 mod link;
 mod model;
+pub mod samples;
 mod urdf;
+pub mod urdf_export;
 
 pub use builder::{FrameSpec, INERTIA_TOLERANCE, InertiaCheck, JointSpec, ModelBuilder};
 pub use error::{Issue, ItemKind, ModelError};
 pub use frame::Frame;
 pub use joint::{Joint, JointDynamics, JointKind, JointLimits, Mimic, plane_basis};
+pub use json::{AngleUnit, DatumExport, JSON_SCHEMA_VERSION, JsonOptions, LengthUnit, Units};
 pub use kinetree_spatial as spatial;
 pub use link::{Collision, Geometry, Inertial, Link, LinkMetadata, Visual};
 pub use model::{Body, Model, ROOT_JOINT_NAME, RootJoint};

@@ -62,6 +62,12 @@ pub struct Body {
 /// [`Model::from_json_str`](crate::Model::from_json_str) or [`crate::dh`]. Links and joints are
 /// stored depth-first from the root link (a joint comes right before its child link's subtree;
 /// children in declaration order), so parents always precede children.
+///
+/// A model may be empty (a URDF `<robot>` without links): then it has no link, no joint,
+/// `nq = nv = 0`, a single (world) body and [`Model::root_link`] returns `None`.
+///
+/// Methods that take a link, joint, frame or body index panic when the index is out of range, as
+/// slice indexing does; indices come from this model's own lookups (`link_index`, …).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
     pub(crate) name: String,
@@ -176,10 +182,10 @@ impl Model {
         self.frame_names.get(name).copied()
     }
 
-    /// The root link's index (always 0).
+    /// The root link's index: `Some(0)`, or `None` for the empty model (a file without links).
     #[must_use]
-    pub fn root_link(&self) -> usize {
-        0
+    pub fn root_link(&self) -> Option<usize> {
+        (!self.links.is_empty()).then_some(0)
     }
 
     /// The joint whose child is `link` (`None` for the root link with a fixed root).
@@ -330,8 +336,10 @@ impl Model {
             .sum()
     }
 
-    /// Problems that did not prevent loading (physically invalid inertias under
-    /// [`InertiaCheck::Warn`](crate::InertiaCheck)).
+    /// Problems that did not prevent loading: physically invalid inertias under
+    /// [`InertiaCheck::Warn`](crate::InertiaCheck), and URDF `<mimic>` tags naming a joint that
+    /// does not exist ([`Issue::UnknownMimicTarget`](crate::Issue::UnknownMimicTarget); the tag is
+    /// dropped and the joint stays an independent degree of freedom).
     #[must_use]
     pub fn warnings(&self) -> &[crate::error::Issue] {
         &self.warnings

@@ -2,10 +2,21 @@
 //!
 //! The XML is first scanned with quick-xml so that malformed files are reported with a line and
 //! column, and so that elements kinetree does not model (transmissions, gazebo tags, calibration,
-//! safety controllers, …) are reported by [`Model::ignored`] instead of being dropped silently.
+//! safety controllers, textures, …) are reported by [`Model::ignored`] instead of being dropped
+//! silently.
+//!
+//! Real files are repaired rather than rejected where the intent is clear:
+//! - `<texture>` elements are removed before urdf-rs sees them (urdf-rs rejects a `<texture/>`
+//!   without `filename`, which iCub and Romeo carry) and listed in [`Model::ignored`];
+//! - a `<robot>` without links loads as the empty model;
+//! - a `<mimic>` naming a joint that does not exist is dropped and reported in
+//!   [`Model::warnings`] as [`Issue::UnknownMimicTarget`]: kinetree treats mimic joints as
+//!   independent degrees of freedom (as Pinocchio does), so the tag carries no information the
+//!   model needs. [`ModelBuilder::build`](crate::ModelBuilder::build) used directly still rejects
+//!   an unknown mimic target.
 
 use crate::builder::{JointSpec, ModelBuilder};
-use crate::error::ModelError;
+use crate::error::{Issue, ModelError};
 use crate::joint::{JointDynamics, JointKind, JointLimits, Mimic};
 use crate::link::{Collision, Geometry, Inertial, Link, Visual};
 use crate::model::{Model, RootJoint};
@@ -53,8 +64,19 @@ impl Model {
     }
 }
 
-fn from_urdf(text: &str, root: RootJoint, file: Option<PathBuf>) -> Result<Model, ModelError> {
-    let ignored = scan_xml(text, file.as_deref())?;
+pub(crate) fn from_urdf(
+    text: &str,
+    root: RootJoint,
+    file: Option<PathBuf>,
+) -> Result<Model, ModelError> {
+    let Scan { ignored, textures } = scan_xml(text, file.as_deref())?;
+    let sanitized;
+    let text = if textures.is_empty() {
+        text
+    } else {
+        sanitized = remove_ranges(text, &textures);
+        sanitized.as_str()
+    };
     let robot = urdf_rs::read_from_string(text).map_err(|e| ModelError::Urdf {
         file: file.clone(),
         message: e.to_string(),
@@ -72,12 +94,24 @@ fn from_urdf(text: &str, root: RootJoint, file: Option<PathBuf>) -> Result<Model
     for l in &robot.links {
         b.add_link(convert_link(l, &colors));
     }
+    let joint_names: std::collections::HashSet<&str> =
+        robot.joints.iter().map(|j| j.name.as_str()).collect();
     for j in &robot.joints {
         let mut spec = convert_joint(j);
         if spec.kind == JointKind::Fixed && spec.mimic.is_some() {
             // A fixed joint has nothing to couple; urdfdom and Pinocchio drop the tag too.
             spec.mimic = None;
             b.note_ignored(format!("<mimic> of fixed joint '{}'", spec.name));
+        }
+        if let Some(m) = spec
+            .mimic
+            .take_if(|m| !joint_names.contains(m.joint.as_str()))
+        {
+            // Mimic joints are independent DoFs here, so a dangling tag is harmless: drop it.
+            b.note_warning(Issue::UnknownMimicTarget {
+                joint: spec.name.clone(),
+                target: m.joint,
+            });
         }
         b.add_joint(spec);
     }
@@ -219,14 +253,38 @@ fn convert_joint(j: &urdf_rs::Joint) -> JointSpec {
     spec
 }
 
+/// What [`scan_xml`] found.
+struct Scan {
+    /// Human-readable descriptions of the elements kinetree does not model.
+    ignored: Vec<String>,
+    /// Byte ranges of the `<texture>` elements, to be removed before urdf-rs parses the text.
+    textures: Vec<std::ops::Range<usize>>,
+}
+
+/// Removes the byte ranges (sorted, disjoint) from `text`.
+fn remove_ranges(text: &str, ranges: &[std::ops::Range<usize>]) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut at = 0;
+    for r in ranges {
+        out.push_str(&text[at..r.start]);
+        at = r.end;
+    }
+    out.push_str(&text[at..]);
+    out
+}
+
 /// Checks well-formedness and lists the elements kinetree does not model.
-fn scan_xml(text: &str, file: Option<&Path>) -> Result<Vec<String>, ModelError> {
+fn scan_xml(text: &str, file: Option<&Path>) -> Result<Scan, ModelError> {
     let mut reader = quick_xml::Reader::from_str(text);
     let mut ignored = Vec::new();
+    let mut textures = Vec::new();
+    // Start offset and stack depth of the `<texture>` element being skipped, if any.
+    let mut open_texture: Option<(usize, usize)> = None;
     // Element names from the document root down to the current element.
     let mut stack: Vec<(String, Option<String>)> = Vec::new();
     let mut saw_robot = false;
     loop {
+        let event_start = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
         let event = reader.read_event().map_err(|e| {
             let (line, column) = line_column(text, reader.error_position() as usize);
             ModelError::Xml {
@@ -241,6 +299,11 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Vec<String>, ModelError> 
             Event::Empty(s) => (Some(s), true),
             Event::End(_) => {
                 stack.pop();
+                if let Some((start, _)) = open_texture.filter(|&(_, d)| d == stack.len()) {
+                    let end = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
+                    textures.push(start..end);
+                    open_texture = None;
+                }
                 continue;
             }
             Event::Eof => break,
@@ -255,13 +318,11 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Vec<String>, ModelError> 
             .and_then(|a| a.unescape_value().ok().map(|v| v.into_owned()));
         match stack.as_slice() {
             [] => saw_robot |= tag == "robot",
-            [(_, _)] => {
-                if !matches!(tag.as_str(), "link" | "joint" | "material") {
-                    ignored.push(match &name {
-                        Some(n) => format!("<{tag}> '{n}'"),
-                        None => format!("<{tag}>"),
-                    });
-                }
+            [(_, _)] if !matches!(tag.as_str(), "link" | "joint" | "material") => {
+                ignored.push(match &name {
+                    Some(n) => format!("<{tag}> '{n}'"),
+                    None => format!("<{tag}>"),
+                });
             }
             [_, (parent, parent_name)] if parent == "joint" => {
                 if matches!(tag.as_str(), "calibration" | "safety_controller") {
@@ -273,6 +334,20 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Vec<String>, ModelError> 
             }
             _ => {}
         }
+        if tag == "texture" && open_texture.is_none() && stack.len() >= 2 {
+            // Textures are not modelled; urdf-rs rejects some valid ones, so they are cut out.
+            let material = match stack.last() {
+                Some((t, Some(n))) if t == "material" => format!(" of material '{n}'"),
+                _ => String::new(),
+            };
+            ignored.push(format!("<texture>{material}"));
+            if empty {
+                let end = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
+                textures.push(event_start..end);
+            } else {
+                open_texture = Some((event_start, stack.len()));
+            }
+        }
         if !empty {
             stack.push((tag, name));
         }
@@ -283,7 +358,7 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Vec<String>, ModelError> 
             message: "the document has no <robot> root element".into(),
         });
     }
-    Ok(ignored)
+    Ok(Scan { ignored, textures })
 }
 
 fn line_column(text: &str, offset: usize) -> (usize, usize) {

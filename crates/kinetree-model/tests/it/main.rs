@@ -1,3 +1,4 @@
 //! Integration tests of the model layer.
 
+mod corpus;
 mod reference;

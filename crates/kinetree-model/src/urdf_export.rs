@@ -1,0 +1,266 @@
+//! URDF export: [`Model::to_urdf_string`].
+//!
+//! The XML is written by hand (urdf-rs's writer drops infinite limits, which URDF 1.0 readers then
+//! take as zero), so that loading the output with [`Model::from_urdf_str`] gives the same model:
+//! the same links, joints, placements (to round-off of the roll-pitch-yaw conversion), limits,
+//! geometry and mimic tags, with `package://` and other mesh names exactly as written.
+//!
+//! What URDF cannot hold is left out: the floating root joint (a load option, not part of the
+//! file), named frames, link metadata, joint armature, gravity, and position limits on joint
+//! kinds that URDF gives none (fixed, continuous, floating, planar, spherical). Cylindrical joints
+//! cannot be expressed at all and are an error.
+//!
+//! The file declares URDF 1.0 unless a limit is unbounded (a revolute or prismatic joint without
+//! position bounds, or a joint without velocity or effort limit): URDF 1.0 has no way to say
+//! so, and the file then declares version 1.2, in which an omitted limit means "none".
+
+use crate::error::ModelError;
+use crate::joint::{Joint, JointKind};
+use crate::link::Geometry;
+use crate::model::Model;
+use core::fmt::Write as _;
+use kinetree_spatial::Se3;
+use quick_xml::escape::escape;
+
+/// Formats a number so that it reads back to the same `f64`.
+fn num(x: f64) -> String {
+    // `{:?}` is the shortest round-trip form and switches to exponents for tiny/huge values.
+    let s = format!("{x:?}");
+    s.strip_suffix(".0").map_or(s.clone(), str::to_string)
+}
+
+fn nums(xs: &[f64]) -> String {
+    xs.iter().map(|&x| num(x)).collect::<Vec<_>>().join(" ")
+}
+
+fn origin(out: &mut String, indent: &str, p: &Se3) {
+    if *p == Se3::IDENTITY {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "{indent}<origin xyz=\"{}\" rpy=\"{}\"/>",
+        nums(&p.translation.to_array()),
+        nums(&p.to_rpy())
+    );
+}
+
+fn geometry(out: &mut String, indent: &str, g: &Geometry) {
+    let _ = writeln!(out, "{indent}<geometry>");
+    let inner = format!("{indent}  ");
+    let _ = match g {
+        Geometry::Box { size } => writeln!(out, "{inner}<box size=\"{}\"/>", nums(size)),
+        Geometry::Cylinder { radius, length } => writeln!(
+            out,
+            "{inner}<cylinder radius=\"{}\" length=\"{}\"/>",
+            num(*radius),
+            num(*length)
+        ),
+        Geometry::Capsule { radius, length } => writeln!(
+            out,
+            "{inner}<capsule radius=\"{}\" length=\"{}\"/>",
+            num(*radius),
+            num(*length)
+        ),
+        Geometry::Sphere { radius } => {
+            writeln!(out, "{inner}<sphere radius=\"{}\"/>", num(*radius))
+        }
+        Geometry::Mesh { filename, scale } => {
+            let scale = if *scale == [1.0; 3] {
+                String::new()
+            } else {
+                format!(" scale=\"{}\"", nums(scale))
+            };
+            writeln!(
+                out,
+                "{inner}<mesh filename=\"{}\"{scale}/>",
+                escape(filename.as_str())
+            )
+        }
+    };
+    let _ = writeln!(out, "{indent}</geometry>");
+}
+
+fn name_attr(name: Option<&String>) -> String {
+    name.map_or(String::new(), |n| {
+        format!(" name=\"{}\"", escape(n.as_str()))
+    })
+}
+
+/// The `<limit>` values URDF can carry for a joint: `(lower, upper)` for kinds with position
+/// limits, then velocity and effort.
+fn limit_values(j: &Joint) -> (Option<(f64, f64)>, f64, f64) {
+    let position = j
+        .kind
+        .has_position_limits()
+        .then_some((j.limits.lower, j.limits.upper));
+    (position, j.limits.velocity, j.limits.effort)
+}
+
+fn needs_v1_2(j: &Joint) -> bool {
+    let (position, velocity, effort) = limit_values(j);
+    position.is_some_and(|(lo, hi)| !(lo.is_finite() && hi.is_finite()))
+        || !velocity.is_finite()
+        || !effort.is_finite()
+}
+
+fn limit(out: &mut String, j: &Joint, v1_2: bool) {
+    let (position, velocity, effort) = limit_values(j);
+    if !v1_2 {
+        // URDF 1.0 reads a missing <limit> as all zeros: write it only when it says more.
+        let zero = position.is_none_or(|p| p == (0.0, 0.0)) && velocity == 0.0 && effort == 0.0;
+        if zero {
+            return;
+        }
+    }
+    let mut attrs = String::new();
+    let mut attr = |name: &str, x: f64| {
+        if x.is_finite() {
+            let _ = write!(attrs, " {name}=\"{}\"", num(x));
+        }
+    };
+    if let Some((lo, hi)) = position {
+        attr("lower", lo);
+        attr("upper", hi);
+    }
+    attr("effort", effort);
+    attr("velocity", velocity);
+    let _ = writeln!(out, "    <limit{attrs}/>");
+}
+
+impl Model {
+    /// Writes the model as a URDF document that [`Model::from_urdf_str`] reads back to the same
+    /// model (see the [module docs](crate::urdf_export) for what URDF cannot hold).
+    ///
+    /// # Errors
+    /// [`ModelError::UnsupportedJoint`] naming the first cylindrical joint.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree_model::{samples, Model, RootJoint};
+    /// # fn main() -> Result<(), kinetree_model::ModelError> {
+    /// let arm = samples::six_axis();
+    /// let urdf = arm.to_urdf_string()?;
+    /// let back = Model::from_urdf_str(&urdf, RootJoint::Fixed)?;
+    /// assert_eq!(back.nq(), 6);
+    /// assert_eq!(back.joint(1).limits, arm.joint(1).limits);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn to_urdf_string(&self) -> Result<String, ModelError> {
+        // The floating root joint has no parent link: it is a load option, not written.
+        let joints: Vec<&Joint> = self
+            .joints()
+            .iter()
+            .filter(|j| j.parent_link.is_some())
+            .collect();
+        if let Some(j) = joints.iter().find(|j| j.kind == JointKind::Cylindrical) {
+            return Err(ModelError::UnsupportedJoint {
+                format: "URDF",
+                joint: j.name.clone(),
+                kind: j.kind,
+            });
+        }
+        let v1_2 = joints.iter().any(|j| needs_v1_2(j));
+        let mut out = String::from("<?xml version=\"1.0\"?>\n<!-- written by kinetree -->\n");
+        let version = if v1_2 { " version=\"1.2\"" } else { "" };
+        let _ = writeln!(out, "<robot name=\"{}\"{version}>", escape(self.name()));
+        for link in self.links() {
+            let name = escape(link.name.as_str());
+            if link.inertial.is_none() && link.visuals.is_empty() && link.collisions.is_empty() {
+                let _ = writeln!(out, "  <link name=\"{name}\"/>");
+                continue;
+            }
+            let _ = writeln!(out, "  <link name=\"{name}\">");
+            if let Some(i) = &link.inertial {
+                let t = &i.inertia;
+                let _ = writeln!(out, "    <inertial>");
+                origin(&mut out, "      ", &i.origin);
+                let _ = writeln!(out, "      <mass value=\"{}\"/>", num(i.mass));
+                let _ = writeln!(
+                    out,
+                    "      <inertia ixx=\"{}\" ixy=\"{}\" ixz=\"{}\" iyy=\"{}\" iyz=\"{}\" izz=\"{}\"/>",
+                    num(t.xx),
+                    num(t.xy),
+                    num(t.xz),
+                    num(t.yy),
+                    num(t.yz),
+                    num(t.zz)
+                );
+                let _ = writeln!(out, "    </inertial>");
+            }
+            for v in &link.visuals {
+                let _ = writeln!(out, "    <visual{}>", name_attr(v.name.as_ref()));
+                origin(&mut out, "      ", &v.origin);
+                geometry(&mut out, "      ", &v.geometry);
+                if v.material.is_some() || v.color.is_some() {
+                    let material = escape(v.material.as_deref().unwrap_or(""));
+                    match v.color {
+                        Some(c) => {
+                            let _ = writeln!(
+                                out,
+                                "      <material name=\"{material}\">\n        <color rgba=\"{}\"/>\n      </material>",
+                                nums(&c)
+                            );
+                        }
+                        None => {
+                            let _ = writeln!(out, "      <material name=\"{material}\"/>");
+                        }
+                    }
+                }
+                let _ = writeln!(out, "    </visual>");
+            }
+            for c in &link.collisions {
+                let _ = writeln!(out, "    <collision{}>", name_attr(c.name.as_ref()));
+                origin(&mut out, "      ", &c.origin);
+                geometry(&mut out, "      ", &c.geometry);
+                let _ = writeln!(out, "    </collision>");
+            }
+            let _ = writeln!(out, "  </link>");
+        }
+        for j in joints {
+            let Some(parent) = j.parent_link else {
+                continue;
+            };
+            let _ = writeln!(
+                out,
+                "  <joint name=\"{}\" type=\"{}\">",
+                escape(j.name.as_str()),
+                j.kind.as_str()
+            );
+            origin(&mut out, "    ", &j.placement);
+            let _ = writeln!(
+                out,
+                "    <parent link=\"{}\"/>\n    <child link=\"{}\"/>",
+                escape(self.link(parent).name.as_str()),
+                escape(self.link(j.child_link).name.as_str())
+            );
+            // URDF's default axis is x; kinds without an axis keep whatever was read.
+            if j.kind.has_axis() || j.axis != glam::DVec3::X {
+                let _ = writeln!(out, "    <axis xyz=\"{}\"/>", nums(&j.axis.to_array()));
+            }
+            limit(&mut out, j, v1_2);
+            let d = j.dynamics;
+            if d.damping != 0.0 || d.friction != 0.0 {
+                let _ = writeln!(
+                    out,
+                    "    <dynamics damping=\"{}\" friction=\"{}\"/>",
+                    num(d.damping),
+                    num(d.friction)
+                );
+            }
+            if let Some(m) = &j.mimic {
+                let _ = writeln!(
+                    out,
+                    "    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"{}\"/>",
+                    escape(m.joint.as_str()),
+                    num(m.multiplier),
+                    num(m.offset)
+                );
+            }
+            let _ = writeln!(out, "  </joint>");
+        }
+        out.push_str("</robot>\n");
+        Ok(out)
+    }
+}
