@@ -61,6 +61,76 @@ pub enum KinematicsError {
         /// Why.
         reason: String,
     },
+    /// No link (part) has this name.
+    #[error("unknown link '{name}'")]
+    UnknownLink {
+        /// The name looked up.
+        name: String,
+    },
+    /// A joint has the wrong kind for the operation (e.g. degrees for a prismatic joint).
+    #[error("joint '{joint}' is {kind}, expected {expected}")]
+    WrongJointKind {
+        /// The joint.
+        joint: String,
+        /// Its kind.
+        kind: kinetree_model::JointKind,
+        /// What the operation accepts.
+        expected: &'static str,
+    },
+    /// An actuation group is ill-defined (no actuators, duplicate names, a joint in two groups…).
+    #[error("actuation group '{group}': {reason}")]
+    InvalidGroup {
+        /// The group.
+        group: String,
+        /// Why.
+        reason: String,
+    },
+    /// An actuation group's mapping wrote the wrong number of values.
+    #[error(
+        "actuation group '{group}': the {direction} mapping wrote {actual} value(s), expected {expected}"
+    )]
+    MappingSize {
+        /// The group.
+        group: String,
+        /// Which mapping.
+        direction: crate::group::MappingDirection,
+        /// The number of values the other side has.
+        expected: usize,
+        /// The number written.
+        actual: usize,
+    },
+    /// An actuation group's mapping produced NaN or an infinity (its input is outside its domain).
+    #[error("actuation group '{group}': the {direction} mapping gave a non-finite value {index}")]
+    MappingNonFinite {
+        /// The group.
+        group: String,
+        /// Which mapping.
+        direction: crate::group::MappingDirection,
+        /// The first offending output index.
+        index: usize,
+    },
+    /// An actuation group's mappings are not inverses at the probe point.
+    #[error(
+        "actuation group '{group}': actuator '{actuator}' = {probe} comes back as {round_trip} through virtual and back (tolerance {tolerance})"
+    )]
+    MappingInconsistent {
+        /// The group.
+        group: String,
+        /// The first actuated coordinate that does not come back.
+        actuator: String,
+        /// Its value at the probe point.
+        probe: f64,
+        /// The value after actuated → virtual → actuated.
+        round_trip: f64,
+        /// The tolerance it missed.
+        tolerance: f64,
+    },
+    /// No actuated coordinate has this name.
+    #[error("unknown actuator '{name}'")]
+    UnknownActuator {
+        /// The name looked up.
+        name: String,
+    },
 }
 
 /// Checks the length and finiteness of an input vector.

@@ -42,18 +42,25 @@
 //! [`KinematicsError`] names the offending input, joint or frame; wrong lengths and NaN inputs are
 //! errors, never panics.
 
+mod chain;
 pub mod configuration;
 mod data;
 mod error;
 mod forward;
+mod group;
 mod jacobian;
 mod joint_model;
 
+pub use chain::{Chain, ChainStats};
 pub use data::{FrameId, KinematicsData};
 pub use error::KinematicsError;
 pub use forward::{
     forward_kinematics, forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
     frame_velocity, relative_transform, update_frame_placements,
+};
+pub use group::{
+    ActuatedChain, Actuation, ActuationGroup, FnActuation, GroupSpec, LinearActuator,
+    MappingDirection, ROUND_TRIP_TOLERANCE,
 };
 pub use jacobian::{
     ReferenceFrame, change_reference, compute_frame_jacobian, compute_joint_jacobians,

@@ -1,0 +1,872 @@
+//! [`Chain`]: a model, its kinematics data and the current configuration in one value, queried by
+//! name, with world placements cached per body and recomputed only below a changed joint.
+
+use crate::configuration::{neutral_configuration, set_joint_q};
+use crate::data::{FrameId, KinematicsData};
+use crate::error::{KinematicsError, check_vector};
+use kinetree_model::spatial::Se3;
+use kinetree_model::{JointKind, Model};
+
+/// Degrees per radian.
+const DEG_PER_RAD: f64 = 180.0 / core::f64::consts::PI;
+/// Millimetres per metre.
+const MM_PER_M: f64 = 1000.0;
+
+/// Counters of the work a [`Chain`] has done to keep its world placements current.
+///
+/// They only grow; compare two snapshots to see what a query cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ChainStats {
+    /// World placements of bodies recomputed (each also recomputes the world placements of the
+    /// body's links and named frames).
+    pub body_updates: u64,
+    /// Joint transforms (`parent_from_body`) recomputed because the joint's value changed.
+    pub joint_updates: u64,
+}
+
+/// A [`Model`] with its [`KinematicsData`] and current configuration, queried by part, frame and
+/// joint name: yapCAD's kinematic chain.
+///
+/// Setting a joint marks the bodies below it stale; asking for a pose recomputes only the stale
+/// bodies it depends on ([`Chain::stats`] counts them). The poses always equal those of a full
+/// [`forward_kinematics`](crate::forward_kinematics) at [`Chain::q`].
+///
+/// **Cache invariant:** a body is *stale* when its world placement (and those of its links and
+/// frames) may differ from what the current configuration gives. The stale bodies always form a
+/// union of subtrees: changing a joint marks its body's whole subtree (a contiguous range of
+/// bodies, `i..Body::subtree_end`), and refreshing a body first refreshes its stale ancestors, top
+/// down. So a body that is not stale has no stale ancestor, and a query recomputes only the stale
+/// bodies between the queried one and its nearest up-to-date ancestor.
+///
+/// Values are SI (rad, m); [`Chain::set_joint_value_deg`] and [`Chain::set_joint_value_mm`]
+/// convert at the edge. A `Chain` may allocate (name look-ups return vectors); the core functions
+/// it sits on do not.
+///
+/// # Examples
+/// ```
+/// use kinetree_kinematics::Chain;
+/// use kinetree_model::{FrameSpec, JointKind, JointSpec, Link, ModelBuilder};
+/// use kinetree_model::spatial::Se3;
+/// use glam::DVec3;
+/// # fn main() -> Result<(), kinetree_kinematics::KinematicsError> {
+/// let mut b = ModelBuilder::new("arm");
+/// b.add_link(Link::new("base"));
+/// b.add_part(Link::new("upper"), JointSpec::new("shoulder", JointKind::Revolute, "base", "upper"));
+/// b.add_part(
+///     Link::new("carriage"),
+///     JointSpec::new("slide", JointKind::Prismatic, "upper", "carriage")
+///         .with_axis(DVec3::X)
+///         .with_placement(Se3::from_translation(DVec3::new(0.0, 0.0, 0.1))),
+/// );
+/// b.add_frame(FrameSpec::new("tool", "carriage", Se3::from_translation(DVec3::new(0.05, 0.0, 0.0))));
+/// let mut chain = Chain::new(b.build()?);
+///
+/// chain.set_joint_value_deg("shoulder", 90.0)?;
+/// chain.set_joint_value_mm("slide", 250.0)?;
+/// assert!((chain.joint_value("slide")? - 0.25).abs() < 1e-15);
+///
+/// // The tool is 0.25 + 0.05 m along the upper arm's x axis, which now points along world y.
+/// let tool = chain.world_placement("tool")?;
+/// assert!((tool.translation - DVec3::new(0.0, 0.3, 0.1)).length() < 1e-12);
+/// let in_upper = chain.relative_transform("upper", "tool")?;
+/// assert!((in_upper.translation - DVec3::new(0.3, 0.0, 0.1)).length() < 1e-12);
+/// assert_eq!(chain.path_to_root("carriage")?, ["carriage", "upper", "base"]);
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug)]
+pub struct Chain {
+    model: Model,
+    data: KinematicsData,
+    q: Vec<f64>,
+    /// Per body: its world placement (and its links' and frames') may be out of date.
+    stale: Vec<bool>,
+    /// Per body: its joint transform `parent_from_body` may be out of date.
+    joint_stale: Vec<bool>,
+    /// Per body: the links it carries.
+    body_links: Vec<Vec<usize>>,
+    /// Per body: the named frames it carries.
+    body_frames: Vec<Vec<usize>>,
+    /// Scratch stack of bodies to refresh, reused across queries.
+    path: Vec<usize>,
+    stats: ChainStats,
+}
+
+impl From<Model> for Chain {
+    fn from(model: Model) -> Self {
+        Self::new(model)
+    }
+}
+
+impl Chain {
+    /// A chain at the model's neutral configuration
+    /// ([`neutral_configuration`](crate::configuration::neutral_configuration)).
+    ///
+    /// Nothing is computed until the first pose query.
+    #[must_use]
+    pub fn new(model: Model) -> Self {
+        let data = KinematicsData::new(&model);
+        let q = neutral_configuration(&model);
+        let nb = model.nbodies();
+        let mut body_links = vec![Vec::new(); nb];
+        for l in 0..model.links().len() {
+            body_links[model.link_body(l).0].push(l);
+        }
+        let mut body_frames = vec![Vec::new(); nb];
+        for (f, frame) in model.frames().iter().enumerate() {
+            body_frames[model.link_body(frame.link).0].push(f);
+        }
+        let mut stale = vec![true; nb];
+        let mut joint_stale = vec![true; nb];
+        if let (Some(s), Some(j)) = (stale.first_mut(), joint_stale.first_mut()) {
+            // Body 0 is the world: never stale. Its links and frames are placed below.
+            *s = false;
+            *j = false;
+        }
+        let mut chain = Self {
+            model,
+            data,
+            q,
+            stale,
+            joint_stale,
+            body_links,
+            body_frames,
+            path: Vec::new(),
+            stats: ChainStats::default(),
+        };
+        if nb > 0 {
+            chain.place_links_and_frames(0);
+        }
+        chain
+    }
+
+    /// The model.
+    #[inline]
+    #[must_use]
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// Gives the model back.
+    #[must_use]
+    pub fn into_model(self) -> Model {
+        self.model
+    }
+
+    /// The current configuration (length `model.nq()`).
+    #[inline]
+    #[must_use]
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// The cache counters (see [`ChainStats`]).
+    #[inline]
+    #[must_use]
+    pub fn stats(&self) -> ChainStats {
+        self.stats
+    }
+
+    /// Sets the whole configuration `q` (length `model.nq()`). Only the joints whose block of `q`
+    /// changed invalidate their subtree.
+    ///
+    /// # Errors
+    /// [`KinematicsError::DimensionMismatch`] or [`KinematicsError::NonFinite`] for a bad `q`; the
+    /// chain is unchanged.
+    pub fn set_q(&mut self, q: &[f64]) -> Result<(), KinematicsError> {
+        check_vector("q", q, self.model.nq())?;
+        for i in 1..self.model.nbodies() {
+            let b = &self.model.bodies()[i];
+            let r = b.idx_q..b.idx_q + b.nq;
+            if self.q[r.clone()] != q[r.clone()] {
+                self.q[r.clone()].copy_from_slice(&q[r]);
+                self.invalidate(i);
+            }
+        }
+        Ok(())
+    }
+
+    /// The configuration block of the joint named `name` (see
+    /// [`JointKind`] for its layout).
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownJoint`]; [`KinematicsError::WrongJointKind`] for a fixed joint.
+    pub fn joint_q(&self, name: &str) -> Result<&[f64], KinematicsError> {
+        let (_, body) = self.moving_joint(name)?;
+        let b = &self.model.bodies()[body];
+        Ok(&self.q[b.idx_q..b.idx_q + b.nq])
+    }
+
+    /// Sets the configuration block of the joint named `name` (continuous joints by angle,
+    /// spherical joints as quaternion x, y, z, w, floating joints as [x, y, z, qx, qy, qz, qw]) and
+    /// invalidates the subtree below it.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownJoint`]; [`KinematicsError::InvalidJointValue`] for a fixed joint,
+    /// a wrong number of values or a non-finite value. The chain is unchanged on error.
+    pub fn set_joint_q(&mut self, name: &str, values: &[f64]) -> Result<(), KinematicsError> {
+        set_joint_q(&self.model, &mut self.q, name, values)?;
+        let (_, body) = self.moving_joint(name)?;
+        self.invalidate(body);
+        Ok(())
+    }
+
+    /// The value of the 1-DoF joint named `name`: an angle (rad) for revolute and continuous
+    /// joints, a displacement (m) for prismatic ones.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownJoint`]; [`KinematicsError::WrongJointKind`] for a joint that is
+    /// not revolute, continuous or prismatic.
+    pub fn joint_value(&self, name: &str) -> Result<f64, KinematicsError> {
+        let (_, idx_q) = self.scalar_joint(name, ONE_DOF, |_| true)?;
+        Ok(self.q[idx_q])
+    }
+
+    /// Sets the 1-DoF joint named `name` to `value` (rad or m) and invalidates the subtree below
+    /// it. Limits are not enforced (see [`Chain::set_joint_value_clamped`]).
+    ///
+    /// # Errors
+    /// As [`Chain::joint_value`], and [`KinematicsError::InvalidJointValue`] for a non-finite
+    /// value. The chain is unchanged on error.
+    #[doc(alias = "set_joint_value_by_name")]
+    pub fn set_joint_value(&mut self, name: &str, value: f64) -> Result<(), KinematicsError> {
+        self.set_scalar(name, value, ONE_DOF, |_| true)
+    }
+
+    /// As [`Chain::set_joint_value`], with `value` clamped to the joint's position limits first
+    /// (continuous joints have none). Returns the value set.
+    ///
+    /// # Errors
+    /// As [`Chain::set_joint_value`].
+    pub fn set_joint_value_clamped(
+        &mut self,
+        name: &str,
+        value: f64,
+    ) -> Result<f64, KinematicsError> {
+        let (joint, _) = self.scalar_joint(name, ONE_DOF, |_| true)?;
+        let j = self.model.joint(joint);
+        let v = if j.kind.has_position_limits() && value.is_finite() {
+            value.clamp(j.limits.lower, j.limits.upper)
+        } else {
+            value
+        };
+        self.set_joint_value(name, v)?;
+        Ok(v)
+    }
+
+    /// The angle of the revolute or continuous joint named `name`, in degrees.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownJoint`]; [`KinematicsError::WrongJointKind`] for any other kind.
+    pub fn joint_value_deg(&self, name: &str) -> Result<f64, KinematicsError> {
+        let (_, idx_q) = self.scalar_joint(name, ANGULAR, is_angular)?;
+        Ok(self.q[idx_q] * DEG_PER_RAD)
+    }
+
+    /// Sets the revolute or continuous joint named `name` to `degrees`.
+    ///
+    /// # Errors
+    /// As [`Chain::joint_value_deg`], and [`KinematicsError::InvalidJointValue`] for a non-finite
+    /// value.
+    pub fn set_joint_value_deg(&mut self, name: &str, degrees: f64) -> Result<(), KinematicsError> {
+        self.set_scalar(name, degrees / DEG_PER_RAD, ANGULAR, is_angular)
+    }
+
+    /// The displacement of the prismatic joint named `name`, in millimetres.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownJoint`]; [`KinematicsError::WrongJointKind`] for any other kind.
+    pub fn joint_value_mm(&self, name: &str) -> Result<f64, KinematicsError> {
+        let (_, idx_q) = self.scalar_joint(name, LINEAR, is_linear)?;
+        Ok(self.q[idx_q] * MM_PER_M)
+    }
+
+    /// Sets the prismatic joint named `name` to `millimetres`.
+    ///
+    /// # Errors
+    /// As [`Chain::joint_value_mm`], and [`KinematicsError::InvalidJointValue`] for a non-finite
+    /// value.
+    pub fn set_joint_value_mm(
+        &mut self,
+        name: &str,
+        millimetres: f64,
+    ) -> Result<(), KinematicsError> {
+        self.set_scalar(name, millimetres / MM_PER_M, LINEAR, is_linear)
+    }
+
+    /// The world placement (`world_from_frame`) of the link or named frame called `name` (links
+    /// are looked up first).
+    ///
+    /// Recomputes only the stale bodies between that frame's body and its nearest up-to-date
+    /// ancestor.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownFrame`] when no link or frame has this name.
+    #[doc(alias = "world_transform")]
+    #[doc(alias = "get_world_transform")]
+    pub fn world_placement(&mut self, name: &str) -> Result<Se3, KinematicsError> {
+        let id = FrameId::find(&self.model, name)?;
+        self.world_placement_of(id)
+    }
+
+    /// The world placement of a link or named frame given by id.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownFrame`] when the index is out of range for this model.
+    pub fn world_placement_of(&mut self, frame: FrameId) -> Result<Se3, KinematicsError> {
+        let body = match frame {
+            FrameId::Link(l) if l < self.model.links().len() => self.model.link_body(l).0,
+            FrameId::Frame(f) if f < self.model.frames().len() => {
+                self.model.link_body(self.model.frames()[f].link).0
+            }
+            _ => {
+                return Err(KinematicsError::UnknownFrame {
+                    name: format!("{frame:?}"),
+                });
+            }
+        };
+        self.refresh(body);
+        Ok(*self.data.world_placement(frame))
+    }
+
+    /// The pose of `b` in `a` (`a_from_b`), both links or named frames given by name.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownFrame`] naming the first unknown name.
+    #[doc(alias = "get_relative_transform")]
+    pub fn relative_transform(&mut self, a: &str, b: &str) -> Result<Se3, KinematicsError> {
+        let world_from_a = self.world_placement(a)?;
+        let world_from_b = self.world_placement(b)?;
+        Ok(world_from_a.inv_mul(&world_from_b))
+    }
+
+    /// Brings every world placement up to date, recomputing only the stale bodies.
+    pub fn update(&mut self) {
+        for i in 1..self.model.nbodies() {
+            if self.stale[i] {
+                self.recompute(i);
+            }
+        }
+    }
+
+    /// The world placement of every link, indexed like [`Model::links`] (brought up to date
+    /// first).
+    pub fn world_link_placements(&mut self) -> &[Se3] {
+        self.update();
+        self.data.world_from_link()
+    }
+
+    /// The world placement of every named frame, indexed like [`Model::frames`] (brought up to
+    /// date first).
+    pub fn world_frame_placements(&mut self) -> &[Se3] {
+        self.update();
+        self.data.world_from_frame()
+    }
+
+    /// Every link's, then every named frame's, name and world placement (brought up to date
+    /// first).
+    #[doc(alias = "get_all_world_transforms")]
+    pub fn world_placements(&mut self) -> impl Iterator<Item = (&str, &Se3)> + '_ {
+        self.update();
+        let links = self
+            .model
+            .links()
+            .iter()
+            .map(|l| l.name.as_str())
+            .zip(self.data.world_from_link());
+        let frames = self
+            .model
+            .frames()
+            .iter()
+            .map(|f| f.name.as_str())
+            .zip(self.data.world_from_frame());
+        links.chain(frames)
+    }
+
+    /// The kinematics data, brought up to date: body, link and frame placements as a full
+    /// [`forward_kinematics`](crate::forward_kinematics) followed by
+    /// [`update_frame_placements`](crate::update_frame_placements) at [`Chain::q`] writes them.
+    /// Velocities and Jacobians in it are not maintained by the chain.
+    pub fn data(&mut self) -> &KinematicsData {
+        self.update();
+        self.data.q.copy_from_slice(&self.q);
+        &self.data
+    }
+
+    /// The links directly attached below the link `part`, in declaration order.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownLink`].
+    #[doc(alias = "get_children")]
+    pub fn children(&self, part: &str) -> Result<Vec<&str>, KinematicsError> {
+        let l = self.link(part)?;
+        Ok(self.model.children(l).map(|c| self.link_name(c)).collect())
+    }
+
+    /// Every link below the link `part` (not including it), depth-first.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownLink`].
+    #[doc(alias = "get_all_descendants")]
+    pub fn descendants(&self, part: &str) -> Result<Vec<&str>, KinematicsError> {
+        let l = self.link(part)?;
+        Ok(self
+            .model
+            .descendants(l)
+            .into_iter()
+            .map(|c| self.link_name(c))
+            .collect())
+    }
+
+    /// The links from `part` up to the root link, both included.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownLink`].
+    #[doc(alias = "get_chain_to_root")]
+    pub fn path_to_root(&self, part: &str) -> Result<Vec<&str>, KinematicsError> {
+        let l = self.link(part)?;
+        Ok(self
+            .model
+            .path_to_root(l)
+            .into_iter()
+            .map(|c| self.link_name(c))
+            .collect())
+    }
+
+    /// The deepest link that is an ancestor of (or equal to) both `a` and `b`.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownLink`] naming the first unknown name.
+    pub fn common_ancestor(&self, a: &str, b: &str) -> Result<&str, KinematicsError> {
+        let (a, b) = (self.link(a)?, self.link(b)?);
+        Ok(self.link_name(self.model.common_ancestor(a, b)))
+    }
+
+    /// The parent link of `part` (`None` for the root link).
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownLink`].
+    pub fn parent(&self, part: &str) -> Result<Option<&str>, KinematicsError> {
+        let l = self.link(part)?;
+        Ok(self.model.parent_link(l).map(|p| self.link_name(p)))
+    }
+
+    /// The name of the joint that attaches `part` to its parent (`None` for the root link with a
+    /// fixed root): the joint to set to move a part, as yapCAD sets joints by part name.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownLink`].
+    pub fn parent_joint(&self, part: &str) -> Result<Option<&str>, KinematicsError> {
+        let l = self.link(part)?;
+        Ok(self
+            .model
+            .parent_joint(l)
+            .map(|j| self.model.joint(j).name.as_str()))
+    }
+
+    // --- internals ---
+
+    fn link(&self, name: &str) -> Result<usize, KinematicsError> {
+        self.model
+            .link_index(name)
+            .ok_or_else(|| KinematicsError::UnknownLink {
+                name: name.to_string(),
+            })
+    }
+
+    fn link_name(&self, l: usize) -> &str {
+        &self.model.link(l).name
+    }
+
+    /// The joint named `name` and its body.
+    fn moving_joint(&self, name: &str) -> Result<(usize, usize), KinematicsError> {
+        let j = self
+            .model
+            .joint_index(name)
+            .ok_or_else(|| KinematicsError::UnknownJoint {
+                name: name.to_string(),
+            })?;
+        match self.model.joint_body(j) {
+            Some(b) => Ok((j, b)),
+            None => Err(KinematicsError::WrongJointKind {
+                joint: name.to_string(),
+                kind: self.model.joint(j).kind,
+                expected: "a moving joint",
+            }),
+        }
+    }
+
+    /// The 1-DoF joint named `name` accepted by `accepts`, and its index in `q`.
+    fn scalar_joint(
+        &self,
+        name: &str,
+        expected: &'static str,
+        accepts: fn(JointKind) -> bool,
+    ) -> Result<(usize, usize), KinematicsError> {
+        let (j, body) = self.moving_joint(name)?;
+        let kind = self.model.joint(j).kind;
+        if !(is_angular(kind) || is_linear(kind)) || !accepts(kind) {
+            return Err(KinematicsError::WrongJointKind {
+                joint: name.to_string(),
+                kind,
+                expected,
+            });
+        }
+        Ok((j, self.model.bodies()[body].idx_q))
+    }
+
+    fn set_scalar(
+        &mut self,
+        name: &str,
+        value: f64,
+        expected: &'static str,
+        accepts: fn(JointKind) -> bool,
+    ) -> Result<(), KinematicsError> {
+        let (j, idx_q) = self.scalar_joint(name, expected, accepts)?;
+        if !value.is_finite() {
+            return Err(KinematicsError::InvalidJointValue {
+                joint: name.to_string(),
+                reason: "value is not finite".into(),
+            });
+        }
+        if self.q[idx_q] != value {
+            self.q[idx_q] = value;
+            if let Some(body) = self.model.joint_body(j) {
+                self.invalidate(body);
+            }
+        }
+        Ok(())
+    }
+
+    /// Marks body `i`'s joint transform and its whole subtree stale.
+    fn invalidate(&mut self, i: usize) {
+        self.joint_stale[i] = true;
+        // Stale bodies form a union of subtrees: if `i` is already stale, so is everything below.
+        if !self.stale[i] {
+            let end = self.model.bodies()[i].subtree_end;
+            self.stale[i..end].fill(true);
+        }
+    }
+
+    /// Makes body `i` up to date, refreshing its stale ancestors first (top down).
+    fn refresh(&mut self, i: usize) {
+        self.path.clear();
+        let mut b = i;
+        while b != 0 && self.stale[b] {
+            self.path.push(b);
+            b = self.model.bodies()[b].parent;
+        }
+        while let Some(b) = self.path.pop() {
+            self.recompute(b);
+        }
+    }
+
+    /// Recomputes body `i` from its parent, which must be up to date. The arithmetic is the same
+    /// as in `forward_kinematics` and `update_frame_placements`, so the results are identical.
+    fn recompute(&mut self, i: usize) {
+        let body = &self.model.bodies()[i];
+        debug_assert!(!self.stale[body.parent] || body.parent == 0);
+        if self.joint_stale[i] {
+            let q = &self.q[body.idx_q..body.idx_q + body.nq];
+            self.data.parent_from_body[i] =
+                self.data.joint_models()[i].placed_transform(&body.placement, q);
+            self.joint_stale[i] = false;
+            self.stats.joint_updates += 1;
+        }
+        let local = self.data.parent_from_body[i];
+        self.data.world_from_body[i] = if body.parent == 0 {
+            local
+        } else {
+            self.data.world_from_body[body.parent] * local
+        };
+        self.place_links_and_frames(i);
+        self.stale[i] = false;
+        self.stats.body_updates += 1;
+    }
+
+    fn place_links_and_frames(&mut self, i: usize) {
+        let world_from_body = self.data.world_from_body[i];
+        for &l in &self.body_links[i] {
+            let (_, body_from_link) = self.model.link_body(l);
+            self.data.world_from_link[l] = world_from_body * *body_from_link;
+        }
+        for &f in &self.body_frames[i] {
+            let frame = &self.model.frames()[f];
+            self.data.world_from_frame[f] = self.data.world_from_link[frame.link] * frame.placement;
+        }
+    }
+}
+
+const ONE_DOF: &str = "a revolute, continuous or prismatic joint";
+const ANGULAR: &str = "a revolute or continuous joint (degrees)";
+const LINEAR: &str = "a prismatic joint (millimetres)";
+
+fn is_angular(kind: JointKind) -> bool {
+    matches!(kind, JointKind::Revolute | JointKind::Continuous)
+}
+
+fn is_linear(kind: JointKind) -> bool {
+    matches!(kind, JointKind::Prismatic)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{forward_kinematics, update_frame_placements};
+    use kinetree_model::{FrameSpec, JointSpec, Link, ModelBuilder, RootJoint};
+    use rand::SeedableRng;
+
+    fn panda() -> Model {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../tests/data/robots/panda.urdf"
+        );
+        Model::from_urdf_file(path, RootJoint::Fixed).unwrap()
+    }
+
+    /// Every link and frame pose of `chain` equals a full forward kinematics at its `q`.
+    fn assert_matches_full_fk(chain: &mut Chain) {
+        let model = chain.model().clone();
+        let mut data = KinematicsData::new(&model);
+        forward_kinematics(&model, &mut data, chain.q()).unwrap();
+        update_frame_placements(&model, &mut data).unwrap();
+        for (l, link) in model.links().iter().enumerate() {
+            let cached = chain.world_placement(&link.name).unwrap();
+            let full = data.world_placement(FrameId::Link(l));
+            assert!(cached.abs_diff_eq(full, 1e-14, 1e-14), "link {}", link.name);
+        }
+        for (f, frame) in model.frames().iter().enumerate() {
+            let cached = chain.world_placement_of(FrameId::Frame(f)).unwrap();
+            let full = data.world_placement(FrameId::Frame(f));
+            assert!(
+                cached.abs_diff_eq(full, 1e-14, 1e-14),
+                "frame {}",
+                frame.name
+            );
+        }
+        let all = chain.data();
+        for (a, b) in all.world_from_body().iter().zip(data.world_from_body()) {
+            assert!(a.abs_diff_eq(b, 1e-14, 1e-14));
+        }
+    }
+
+    #[test]
+    fn changing_the_wrist_recomputes_only_the_bodies_below_it() {
+        let model = panda();
+        let wrist_body = model
+            .joint_body(model.joint_index("panda_joint7").unwrap())
+            .unwrap();
+        let below = model.bodies()[wrist_body].subtree_end - wrist_body;
+        // Joint 7 carries the hand and both fingers: 3 of the 9 moving bodies.
+        assert_eq!((model.nbodies(), below), (10, 3));
+        let mut chain = Chain::new(model);
+
+        // The first full query computes every moving body once.
+        chain.update();
+        assert_eq!(chain.stats().body_updates, 9);
+        assert_eq!(chain.stats().joint_updates, 9);
+        // Nothing is stale: queries are free.
+        let before = chain.stats();
+        let _ = chain.world_placement("panda_hand_tcp").unwrap();
+        chain.update();
+        assert_eq!(chain.stats(), before);
+
+        // Moving the wrist recomputes exactly its subtree, and its joint transform only.
+        chain.set_joint_value("panda_joint7", 0.4).unwrap();
+        chain.update();
+        let after = chain.stats();
+        assert_eq!(after.body_updates - before.body_updates, below as u64);
+        assert_eq!(after.joint_updates - before.joint_updates, 1);
+        assert_matches_full_fk(&mut chain);
+
+        // A single query is lazier still: the hand needs only the wrist body, not the fingers.
+        let before = chain.stats();
+        chain.set_joint_value("panda_joint7", -0.3).unwrap();
+        let _ = chain.world_placement("panda_hand").unwrap();
+        assert_eq!(chain.stats().body_updates - before.body_updates, 1);
+        // The fingers follow when asked for.
+        let _ = chain.world_placement("panda_leftfinger").unwrap();
+        assert_eq!(chain.stats().body_updates - before.body_updates, 2);
+        assert_matches_full_fk(&mut chain);
+
+        // Setting a joint to the value it already has invalidates nothing.
+        let before = chain.stats();
+        chain.set_joint_value("panda_joint7", -0.3).unwrap();
+        chain.update();
+        assert_eq!(chain.stats(), before);
+
+        // The shoulder moves everything.
+        chain.set_joint_value("panda_joint1", 1.0).unwrap();
+        chain.update();
+        assert_eq!(chain.stats().body_updates - before.body_updates, 9);
+    }
+
+    #[test]
+    fn cached_poses_always_equal_full_forward_kinematics() {
+        let model = panda();
+        let mut chain = Chain::new(model.clone());
+        let mut rng = rand::rngs::SmallRng::seed_from_u64(3);
+        let mut q = vec![0.0; model.nq()];
+        let names: Vec<String> = model
+            .moving_joints()
+            .map(|j| model.joint(j).name.clone())
+            .collect();
+        for step in 0..40 {
+            // Alternate single-joint changes, whole-configuration changes and interleaved queries.
+            if step % 5 == 0 {
+                crate::configuration::random_configuration(&model, &mut rng, &mut q).unwrap();
+                chain.set_q(&q).unwrap();
+            } else {
+                let name = &names[step % names.len()];
+                let v = chain.joint_value(name).unwrap() + 0.1 * step as f64 / 40.0;
+                chain.set_joint_value(name, v).unwrap();
+                let other = &names[(step * 7) % names.len()];
+                let _ = chain.world_placement(&model.link(step % 11).name).unwrap();
+                chain.set_joint_value(other, -v).unwrap();
+            }
+            assert_matches_full_fk(&mut chain);
+        }
+    }
+
+    #[test]
+    fn set_q_invalidates_only_changed_blocks() {
+        let mut chain = Chain::new(panda());
+        chain.update();
+        let mut q = chain.q().to_vec();
+        q[6] = 0.5; // panda_joint7
+        let before = chain.stats();
+        chain.set_q(&q).unwrap();
+        chain.update();
+        assert_eq!(chain.stats().body_updates - before.body_updates, 3);
+        assert!(matches!(
+            chain.set_q(&q[1..]),
+            Err(KinematicsError::DimensionMismatch { .. })
+        ));
+        q[0] = f64::NAN;
+        assert!(matches!(
+            chain.set_q(&q),
+            Err(KinematicsError::NonFinite { index: 0, .. })
+        ));
+        assert!((chain.q()[6] - 0.5).abs() < 1e-15);
+    }
+
+    fn small() -> Model {
+        let mut b = ModelBuilder::new("small");
+        b.add_link(Link::new("base"));
+        b.add_part(
+            Link::new("upper"),
+            JointSpec::new("shoulder", JointKind::Revolute, "base", "upper")
+                .with_limits(kinetree_model::JointLimits::position(-1.0, 1.0)),
+        );
+        b.add_part(
+            Link::new("carriage"),
+            JointSpec::new("slide", JointKind::Prismatic, "upper", "carriage")
+                .with_axis(glam::DVec3::X),
+        );
+        b.add_part(
+            Link::new("head"),
+            JointSpec::new("neck", JointKind::Spherical, "upper", "head"),
+        );
+        b.add_part(
+            Link::new("plate"),
+            JointSpec::new("weld", JointKind::Fixed, "carriage", "plate"),
+        );
+        b.add_frame(FrameSpec::new("tool", "plate", Se3::IDENTITY));
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn joint_setters_convert_units_and_reject_wrong_kinds() {
+        let mut chain = Chain::new(small());
+        chain.set_joint_value_deg("shoulder", 30.0).unwrap();
+        assert!((chain.joint_value("shoulder").unwrap() - 30f64.to_radians()).abs() < 1e-15);
+        assert!((chain.joint_value_deg("shoulder").unwrap() - 30.0).abs() < 1e-12);
+        chain.set_joint_value_mm("slide", 12.5).unwrap();
+        assert!((chain.joint_value("slide").unwrap() - 0.0125).abs() < 1e-15);
+        assert!((chain.joint_value_mm("slide").unwrap() - 12.5).abs() < 1e-12);
+        assert!((chain.set_joint_value_clamped("shoulder", 3.0).unwrap() - 1.0).abs() < 1e-15);
+        assert!((chain.joint_value("shoulder").unwrap() - 1.0).abs() < 1e-15);
+
+        let kind_of = |e: KinematicsError| match e {
+            KinematicsError::WrongJointKind { joint, kind, .. } => (joint, kind),
+            other => panic!("unexpected {other}"),
+        };
+        let e = chain.set_joint_value_deg("slide", 1.0).unwrap_err();
+        assert_eq!(kind_of(e), ("slide".into(), JointKind::Prismatic));
+        let e = chain.set_joint_value_mm("shoulder", 1.0).unwrap_err();
+        assert_eq!(kind_of(e), ("shoulder".into(), JointKind::Revolute));
+        let e = chain.set_joint_value("neck", 1.0).unwrap_err();
+        assert_eq!(kind_of(e), ("neck".into(), JointKind::Spherical));
+        let e = chain.joint_value("weld").unwrap_err();
+        assert_eq!(kind_of(e), ("weld".into(), JointKind::Fixed));
+        assert!(matches!(
+            chain.set_joint_value("elbow", 1.0),
+            Err(KinematicsError::UnknownJoint { name }) if name == "elbow"
+        ));
+        assert!(matches!(
+            chain.set_joint_value("slide", f64::INFINITY),
+            Err(KinematicsError::InvalidJointValue { joint, .. }) if joint == "slide"
+        ));
+        // Multi-DoF joints go through the block setters.
+        let half = core::f64::consts::FRAC_1_SQRT_2;
+        chain.set_joint_q("neck", &[0.0, 0.0, half, half]).unwrap();
+        let neck = chain.joint_q("neck").unwrap();
+        assert!(
+            neck.iter()
+                .zip([0.0, 0.0, half, half])
+                .all(|(a, b)| (a - b).abs() < 1e-15)
+        );
+        assert!(matches!(
+            chain.set_joint_q("neck", &[1.0]),
+            Err(KinematicsError::InvalidJointValue { .. })
+        ));
+        assert_matches_full_fk(&mut chain);
+    }
+
+    #[test]
+    fn tree_queries_by_name() {
+        let chain = Chain::new(small());
+        assert_eq!(chain.children("upper").unwrap(), ["carriage", "head"]);
+        assert_eq!(
+            chain.descendants("upper").unwrap(),
+            ["carriage", "plate", "head"]
+        );
+        assert_eq!(
+            chain.path_to_root("plate").unwrap(),
+            ["plate", "carriage", "upper", "base"]
+        );
+        assert_eq!(chain.common_ancestor("plate", "head").unwrap(), "upper");
+        assert_eq!(chain.parent("base").unwrap(), None);
+        assert_eq!(chain.parent("plate").unwrap(), Some("carriage"));
+        assert_eq!(chain.parent_joint("plate").unwrap(), Some("weld"));
+        assert_eq!(chain.parent_joint("base").unwrap(), None);
+        assert!(matches!(
+            chain.children("tool"),
+            Err(KinematicsError::UnknownLink { name }) if name == "tool"
+        ));
+    }
+
+    #[test]
+    fn world_and_relative_placements() {
+        let mut chain = Chain::new(small());
+        chain.set_joint_value("shoulder", 0.5).unwrap();
+        chain.set_joint_value("slide", 0.2).unwrap();
+        let tool = chain.world_placement("tool").unwrap();
+        let expected = Se3::from_rotation_z(0.5) * Se3::from_translation(glam::DVec3::X * 0.2);
+        assert!(tool.abs_diff_eq(&expected, 1e-15, 1e-15));
+        let rel = chain.relative_transform("upper", "tool").unwrap();
+        assert!(rel.abs_diff_eq(&Se3::from_translation(glam::DVec3::X * 0.2), 1e-15, 1e-15));
+        let all: Vec<(&str, Se3)> = chain.world_placements().map(|(n, p)| (n, *p)).collect();
+        assert_eq!(all.len(), 6);
+        assert_eq!(all[5].0, "tool");
+        assert!(all[5].1.abs_diff_eq(&expected, 1e-15, 1e-15));
+        assert!(matches!(
+            chain.relative_transform("upper", "nowhere"),
+            Err(KinematicsError::UnknownFrame { name }) if name == "nowhere"
+        ));
+        assert!(matches!(
+            chain.world_placement_of(FrameId::Link(99)),
+            Err(KinematicsError::UnknownFrame { .. })
+        ));
+    }
+}
