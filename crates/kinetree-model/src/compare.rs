@@ -270,13 +270,6 @@ impl Model {
                 other.joints.len()
             ));
         }
-        if self.frames.len() != other.frames.len() {
-            return Some(format!(
-                "{} frames vs {}",
-                self.frames.len(),
-                other.frames.len()
-            ));
-        }
         for (a, b) in self.links.iter().zip(&other.links) {
             if let Some(d) = link_difference(a, b, tolerance) {
                 return Some(d);
@@ -286,6 +279,13 @@ impl Model {
             if let Some(d) = joint_difference(a, b, tolerance) {
                 return Some(d);
             }
+        }
+        if self.frames.len() != other.frames.len() {
+            return Some(format!(
+                "{} frames vs {}",
+                self.frames.len(),
+                other.frames.len()
+            ));
         }
         for (f, g) in self.frames.iter().zip(&other.frames) {
             if f.name != g.name

@@ -367,3 +367,131 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let column = before.iter().rev().take_while(|&&b| b != b'\n').count() + 1;
     (line, column)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ModelBuilder;
+
+    const TEXTURED: &str = r#"<robot name="textured">
+  <material name="skin"><texture filename="skin.png"></texture><color rgba="0 0 1 1"/></material>
+  <link name="base">
+    <visual>
+      <geometry><box size="1 2 3"/></geometry>
+      <material name="metal">
+        <texture />
+        <color rgba="0.5 0.5 0.5 1" />
+      </material>
+    </visual>
+    <visual>
+      <geometry><sphere radius="0.5"/></geometry>
+      <material name="skin"/>
+    </visual>
+  </link>
+</robot>"#;
+
+    #[test]
+    fn textures_are_removed_and_reported() {
+        // urdf-rs alone rejects the `<texture />` without a file name.
+        assert!(urdf_rs::read_from_string(TEXTURED).is_err());
+        let m = Model::from_urdf_str(TEXTURED, RootJoint::Fixed).unwrap();
+        let base = m.link(0);
+        assert_eq!(base.visuals.len(), 2);
+        assert_eq!(base.visuals[0].material.as_deref(), Some("metal"));
+        assert_eq!(base.visuals[0].color, Some([0.5, 0.5, 0.5, 1.0]));
+        // The colour of the global material survives the removal of its texture.
+        assert_eq!(base.visuals[1].color, Some([0.0, 0.0, 1.0, 1.0]));
+        assert_eq!(
+            m.ignored(),
+            [
+                "<texture> of material 'skin'",
+                "<texture> of material 'metal'"
+            ]
+        );
+    }
+
+    #[test]
+    fn a_robot_without_links_is_the_empty_model() {
+        let urdf = r#"<?xml version="1.0"?>
+<robot xmlns:xacro="http://wiki.ros.org/xacro">
+  <!-- nothing here, as in example-robot-data's ur3.urdf -->
+</robot>"#;
+        for root in [RootJoint::Fixed, RootJoint::Floating] {
+            let m = Model::from_urdf_str(urdf, root).unwrap();
+            assert_eq!((m.nq(), m.nv(), m.nbodies()), (0, 0, 1));
+            assert!(m.links().is_empty() && m.joints().is_empty() && m.frames().is_empty());
+            assert_eq!(m.root_link(), None);
+            // There is nothing to attach a floating joint to.
+            assert_eq!(m.root_joint(), RootJoint::Fixed);
+            assert_eq!(m.total_mass(), 0.0);
+            assert_eq!(m.moving_joints().count(), 0);
+            assert_eq!(m.to_string(), " (nq = 0, nv = 0)\n");
+            let back = Model::from_urdf_str(&m.to_urdf_string().unwrap(), root).unwrap();
+            assert_eq!(m.first_difference(&back, 0.0), None);
+            let json = m.to_json_string(&crate::JsonOptions::default()).unwrap();
+            assert_eq!(Model::from_json_str(&json, None).unwrap(), m);
+        }
+    }
+
+    const DANGLING_MIMIC: &str = r#"<robot name="hand">
+  <link name="palm"/><link name="f1"/><link name="f2"/>
+  <joint name="q1" type="revolute"><parent link="palm"/><child link="f1"/>
+    <limit lower="0" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="q2" type="revolute"><parent link="f1"/><child link="f2"/>
+    <limit lower="0" upper="1" effort="1" velocity="1"/>
+    <mimic joint="index_q1" multiplier="1.05"/></joint>
+</robot>"#;
+
+    #[test]
+    fn a_dangling_mimic_is_dropped_with_a_warning() {
+        let m = Model::from_urdf_str(DANGLING_MIMIC, RootJoint::Fixed).unwrap();
+        assert_eq!((m.nq(), m.nv()), (2, 2));
+        let q2 = m.joint(m.joint_index("q2").unwrap());
+        assert_eq!(q2.mimic, None);
+        assert_eq!(
+            m.warnings(),
+            [Issue::UnknownMimicTarget {
+                joint: "q2".into(),
+                target: "index_q1".into()
+            }]
+        );
+        assert_eq!(
+            m.warnings()[0].to_string(),
+            "joint 'q2' mimics unknown joint 'index_q1'"
+        );
+    }
+
+    #[test]
+    fn the_builder_still_rejects_an_unknown_mimic_target() {
+        let mut b = ModelBuilder::new("hand");
+        b.add_link(Link::new("palm")).add_link(Link::new("f1"));
+        b.add_joint(
+            JointSpec::new("q2", JointKind::Revolute, "palm", "f1")
+                .with_mimic("index_q1", 1.0, 0.0),
+        );
+        let e = b.build().unwrap_err();
+        assert_eq!(
+            e.issues(),
+            [Issue::UnknownMimicTarget {
+                joint: "q2".into(),
+                target: "index_q1".into()
+            }]
+        );
+    }
+
+    #[test]
+    fn a_valid_mimic_is_kept() {
+        let urdf = DANGLING_MIMIC.replace("index_q1", "q1");
+        let m = Model::from_urdf_str(&urdf, RootJoint::Fixed).unwrap();
+        let q2 = m.joint(m.joint_index("q2").unwrap());
+        assert_eq!(
+            q2.mimic,
+            Some(Mimic {
+                joint: "q1".into(),
+                multiplier: 1.05,
+                offset: 0.0
+            })
+        );
+        assert!(m.warnings().is_empty());
+    }
+}

@@ -24,6 +24,10 @@ use quick_xml::escape::escape;
 
 /// Formats a number so that it reads back to the same `f64`.
 fn num(x: f64) -> String {
+    if x == 0.0 {
+        // Also turns -0 into 0.
+        return "0".into();
+    }
     // `{:?}` is the shortest round-trip form and switches to exponents for tiny/huge values.
     let s = format!("{x:?}");
     s.strip_suffix(".0").map_or(s.clone(), str::to_string)
@@ -37,12 +41,16 @@ fn origin(out: &mut String, indent: &str, p: &Se3) {
     if *p == Se3::IDENTITY {
         return;
     }
-    let _ = writeln!(
-        out,
-        "{indent}<origin xyz=\"{}\" rpy=\"{}\"/>",
-        nums(&p.translation.to_array()),
-        nums(&p.to_rpy())
-    );
+    let xyz = p.translation.to_array();
+    let rpy = p.to_rpy();
+    let mut attrs = String::new();
+    if xyz != [0.0; 3] {
+        let _ = write!(attrs, " xyz=\"{}\"", nums(&xyz));
+    }
+    if rpy != [0.0; 3] {
+        let _ = write!(attrs, " rpy=\"{}\"", nums(&rpy));
+    }
+    let _ = writeln!(out, "{indent}<origin{attrs}/>");
 }
 
 fn geometry(out: &mut String, indent: &str, g: &Geometry) {
