@@ -5,7 +5,7 @@ use crate::configuration::{neutral_configuration, set_joint_q};
 use crate::data::{FrameId, KinematicsData};
 use crate::error::{KinematicsError, check_vector};
 use kinetree_model::spatial::Se3;
-use kinetree_model::{JointKind, Model};
+use kinetree_model::{JointKind, JsonOptions, Model};
 
 /// Degrees per radian.
 const DEG_PER_RAD: f64 = 180.0 / core::f64::consts::PI;
@@ -391,6 +391,43 @@ impl Chain {
         self.update();
         self.data.q.copy_from_slice(&self.q);
         &self.data
+    }
+
+    /// Writes the model as kinetree JSON (see [`Model::to_json_string`]) with the chain's state:
+    /// every link gets its current `world_pose` and every moving joint (except a floating root)
+    /// its current `position`. Units and datum handling come from `options`; its `world_poses`
+    /// and `positions` are replaced by the chain's.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Model`] when the model cannot be written in the requested units (see
+    /// [`Model::to_json_string`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree_kinematics::Chain;
+    /// use kinetree_model::{samples, JsonOptions, Units};
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// let mut chain = Chain::new(samples::planar_2r(0.3, 0.2));
+    /// let first = chain.model().joint(chain.model().moving_joints().next().unwrap()).name.clone();
+    /// chain.set_joint_value_deg(&first, 90.0)?;
+    /// let json = chain.to_json_string(&JsonOptions { units: Units::MM_DEG, ..JsonOptions::default() })?;
+    /// let doc: serde_json::Value = serde_json::from_str(&json)?;
+    /// let position = doc["joints"][0]["position"].as_f64().unwrap_or(f64::NAN);
+    /// assert!((position - 90.0).abs() < 1e-12);
+    /// assert!(doc["links"][1]["world_pose"].is_object());
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[doc(alias = "export_json")]
+    #[doc(alias = "to_dict")]
+    pub fn to_json_string(&mut self, options: &JsonOptions<'_>) -> Result<String, KinematicsError> {
+        self.update();
+        let options = JsonOptions {
+            world_poses: Some(self.data.world_from_link()),
+            positions: Some(&self.q),
+            ..*options
+        };
+        Ok(self.model.to_json_string(&options)?)
     }
 
     /// The links directly attached below the link `part`, in declaration order.
@@ -821,6 +858,91 @@ mod tests {
             Err(KinematicsError::InvalidJointValue { .. })
         ));
         assert_matches_full_fk(&mut chain);
+    }
+
+    #[test]
+    fn random_trees_stay_equal_to_full_forward_kinematics() {
+        use kinetree_model::samples;
+        let models = [
+            samples::random_tree(11, 12),
+            samples::random_tree_with_root(5, 9, RootJoint::Floating),
+            samples::humanoid_like(),
+        ];
+        for model in models {
+            let mut chain = Chain::new(model.clone());
+            chain.update();
+            let mut rng = rand::rngs::SmallRng::seed_from_u64(17);
+            let mut q = vec![0.0; model.nq()];
+            for step in 0..30 {
+                crate::configuration::random_configuration(&model, &mut rng, &mut q).unwrap();
+                // Change one joint's block at a time and query a link somewhere in the tree.
+                let joints: Vec<usize> = model.moving_joints().collect();
+                let j = joints[step % joints.len()];
+                let name = &model.joint(j).name;
+                chain.set_joint_q(name, &q[model.joint_q_range(j)]).unwrap();
+                let body = model.joint_body(j).unwrap();
+                let before = chain.stats().body_updates;
+                chain.update();
+                let recomputed = chain.stats().body_updates - before;
+                // Exactly the subtree below the changed joint (a random block always differs).
+                assert_eq!(recomputed, (model.bodies()[body].subtree_end - body) as u64);
+                assert_matches_full_fk(&mut chain);
+            }
+        }
+    }
+
+    #[test]
+    fn json_export_carries_world_poses_and_positions() {
+        use kinetree_model::Units;
+        let mut chain = Chain::new(panda());
+        chain.set_joint_value("panda_joint2", -0.7).unwrap();
+        chain.set_joint_value("panda_joint4", -2.0).unwrap();
+        chain
+            .set_joint_value_mm("panda_finger_joint1", 20.0)
+            .unwrap();
+        let units = [(Units::SI, 1.0, 1.0), (Units::MM_DEG, 1000.0, DEG_PER_RAD)];
+        for (units, length, angle) in units {
+            let json = chain
+                .to_json_string(&JsonOptions {
+                    units,
+                    ..JsonOptions::default()
+                })
+                .unwrap();
+            let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+            let triple = |v: &serde_json::Value, scale: f64| -> [f64; 3] {
+                let mut out = [0.0; 3];
+                if let Some(a) = v.as_array() {
+                    for (o, x) in out.iter_mut().zip(a) {
+                        *o = x.as_f64().unwrap() / scale;
+                    }
+                }
+                out
+            };
+            for link in doc["links"].as_array().unwrap() {
+                let name = link["name"].as_str().unwrap();
+                let pose = &link["world_pose"];
+                let written =
+                    Se3::from_xyz_rpy(triple(&pose["xyz"], length), triple(&pose["rpy"], angle));
+                let expected = chain.world_placement(name).unwrap();
+                assert!(written.abs_diff_eq(&expected, 1e-9, 1e-12), "{name}");
+            }
+            for joint in doc["joints"].as_array().unwrap() {
+                let name = joint["name"].as_str().unwrap();
+                if let Ok(value) = chain.joint_value(name) {
+                    let scale = if name.contains("finger") {
+                        length
+                    } else {
+                        angle
+                    };
+                    let written = joint["position"].as_f64().unwrap() / scale;
+                    assert!((written - value).abs() < 1e-12, "{name}");
+                }
+            }
+            // The file loads back into the same model.
+            let back = Model::from_json_str(&json, None).unwrap();
+            assert_eq!(back.links().len(), chain.model().links().len());
+            assert_eq!(back.nq(), chain.model().nq());
+        }
     }
 
     #[test]
