@@ -22,14 +22,16 @@ struct Cli {
 enum Command {
     /// Print a model's tree, dimensions, joint table, masses, frames and load warnings.
     Inspect(cmd::inspect::Args),
-    // Later commands slot in here, one module each: compute, bench, dynamics, ik, workspace,
-    // collide, simulate.
+    /// Convert a model between URDF and JSON (formats chosen by the file extensions).
+    Convert(cmd::convert::Args),
+    // Later commands slot in here, one module each: compute, bench, dynamics, ik, workspace, collide, simulate.
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Inspect(args) => cmd::inspect::run(&args),
+        Command::Convert(args) => cmd::convert::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -186,3 +186,78 @@ fn a_missing_file_or_unknown_format_is_an_error() {
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr(&out).contains("robot.step"), "{}", stderr(&out));
 }
+
+#[test]
+fn convert_urdf_to_json_and_back_keeps_the_model() {
+    let dir = scratch("convert");
+    let json = dir.join("panda.json").display().to_string();
+    let urdf = dir.join("panda_again.urdf").display().to_string();
+    let mm = dir.join("panda_mm.json").display().to_string();
+
+    let out = kinetree(&["convert", &panda(), &json]);
+    assert!(out.status.success(), "stderr: {}", stderr(&out));
+    assert_eq!(
+        stdout(&out),
+        format!("wrote {json} (JSON): 13 links, 12 joints, nq = 9, nv = 9\n")
+    );
+    let out = kinetree(&["convert", &json, &urdf]);
+    assert!(out.status.success(), "stderr: {}", stderr(&out));
+    let out = kinetree(&["convert", "--units", "mm-deg", &panda(), &mm]);
+    assert!(out.status.success(), "stderr: {}", stderr(&out));
+    let mm_text = std::fs::read_to_string(&mm).unwrap();
+
+    let original = stdout(&kinetree(&["inspect", &panda()]));
+    let reports: Vec<String> = [&json, &urdf, &mm]
+        .iter()
+        .map(|f| stdout(&kinetree(&["inspect", f])))
+        .collect();
+    std::fs::remove_dir_all(&dir).unwrap();
+
+    assert!(mm_text.contains("\"length\": \"mm\""), "{mm_text}");
+    assert!(mm_text.contains("\"angle\": \"deg\""), "{mm_text}");
+    // panda_joint1's lower limit, -2.8973 rad, in degrees.
+    assert!(mm_text.contains("-166.0030619832"), "{mm_text}");
+    // Every format reads back to the same tree, joint table and masses.
+    for report in &reports {
+        assert!(report.starts_with("panda (nq = 9, nv = 9)\n"), "{report}");
+        for header in ["joints", "links"] {
+            assert_eq!(section(report, header), section(&original, header));
+        }
+    }
+}
+
+#[test]
+fn convert_refuses_what_it_cannot_write() {
+    let out = kinetree(&["convert", &panda(), "panda.step"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("panda.step"), "{}", stderr(&out));
+    assert!(stderr(&out).contains(".urdf or .json"), "{}", stderr(&out));
+
+    let out = kinetree(&["convert", "--units", "mm-deg", &panda(), "x.urdf"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("JSON output only"),
+        "{}",
+        stderr(&out)
+    );
+
+    let out = kinetree(&["convert", "missing.json", "x.urdf"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("missing.json"), "{}", stderr(&out));
+}
+
+#[test]
+fn convert_notes_what_urdf_cannot_hold() {
+    let dir = scratch("floating");
+    let urdf = dir.join("floating.urdf").display().to_string();
+    let out = kinetree(&["convert", "--floating", &panda(), &urdf]);
+    let written = std::fs::read_to_string(&urdf);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(out.status.success(), "stderr: {}", stderr(&out));
+    assert!(
+        stdout(&out).contains("note: the floating root joint is not written"),
+        "{}",
+        stdout(&out)
+    );
+    assert!(!written.unwrap().contains("root_joint"));
+}

@@ -1409,6 +1409,14 @@ mod tests {
     }
 
     #[test]
+    fn chains_and_groups_can_move_between_threads() {
+        fn send_sync<T: Send + Sync>() {}
+        send_sync::<Chain>();
+        send_sync::<ActuationGroup>();
+        send_sync::<ActuatedChain>();
+    }
+
+    #[test]
     fn group_state_stays_consistent_both_ways() {
         let model = wrist();
         let spec = GroupSpec::new("wrist", ["a", "b"], ["pitch", "roll"], [0.4, 0.0]);
