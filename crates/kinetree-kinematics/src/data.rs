@@ -106,7 +106,9 @@ impl KinematicsData {
             body_velocity: vec![Motion::ZERO; nb],
             body_acceleration: vec![Motion::ZERO; nb],
             world_from_link: vec![Se3::IDENTITY; model.links().len()],
-            link_on_body_frame: (0..model.links().len()).map(|l| *model.link_body(l).1 == Se3::IDENTITY).collect(),
+            link_on_body_frame: (0..model.links().len())
+                .map(|l| *model.link_body(l).1 == Se3::IDENTITY)
+                .collect(),
             world_from_frame: vec![Se3::IDENTITY; model.frames().len()],
             jacobian: vec![Motion::ZERO; model.nv()],
             jacobian_dot: vec![Motion::ZERO; model.nv()],

@@ -8,6 +8,12 @@
 //! Algorithms are plain functions over `(&Model, &mut KinematicsData, inputs)`. A
 //! [`KinematicsData`] holds every buffer they write; once it exists, no algorithm allocates.
 //!
+//! On top of them sit two convenience layers that own their state and may allocate:
+//! [`Chain`] (set joints by name, query any part's pose, with world transforms cached and
+//! recomputed only below a changed joint) and actuation groups ([`ActuationGroup`],
+//! [`ActuatedChain`]: actuated coordinates mapped to the virtual joints of a sub-chain, e.g. a
+//! linear actuator driving a knee).
+//!
 //! ```
 //! use kinetree_kinematics::{compute_frame_jacobian, configuration, forward_kinematics, FrameId,
 //!                           KinematicsData, ReferenceFrame};
@@ -32,7 +38,7 @@
 //! ## Conventions
 //! - SI units; `q` has `model.nq()` entries, `v`/`a` have `model.nv()` (layouts per joint kind in
 //!   [`kinetree_model::JointKind`]; quaternions x, y, z, w).
-//! - Spatial vectors and Jacobian rows are `[linear; angular]`; a Jacobian is `nv` [`Motion`]
+//! - Spatial vectors and Jacobian rows are `[linear; angular]`; a Jacobian is `nv` [`Motion`](spatial::Motion)
 //!   columns ([`jacobian_to_rows`] gives the 6 x nv matrix).
 //! - Placements are `world_from_*` (`p_world = world_from_link.transform_point(p_link)`).
 //! - Body velocities are twists in the body's own frame; floating-base velocities are in the base
