@@ -599,11 +599,50 @@ struct MimicDoc {
 }
 
 /// A joint's current value: informational, never stored in the model.
-#[derive(Debug, Serialize, Deserialize)]
+#[derive(Debug, Serialize)]
 #[serde(untagged)]
 enum PositionDoc {
     Scalar(f64),
     Vector(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for PositionDoc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct PositionVisitor;
+        impl<'de> serde::de::Visitor<'de> for PositionVisitor {
+            type Value = PositionDoc;
+
+            fn expecting(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.write_str("a number or an array of numbers for `position`")
+            }
+
+            fn visit_f64<E: serde::de::Error>(self, x: f64) -> Result<PositionDoc, E> {
+                Ok(PositionDoc::Scalar(x))
+            }
+
+            #[expect(clippy::cast_precision_loss, reason = "JSON integers as joint values")]
+            fn visit_i64<E: serde::de::Error>(self, x: i64) -> Result<PositionDoc, E> {
+                Ok(PositionDoc::Scalar(x as f64))
+            }
+
+            #[expect(clippy::cast_precision_loss, reason = "JSON integers as joint values")]
+            fn visit_u64<E: serde::de::Error>(self, x: u64) -> Result<PositionDoc, E> {
+                Ok(PositionDoc::Scalar(x as f64))
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<PositionDoc, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = seq.next_element::<f64>()? {
+                    v.push(x);
+                }
+                Ok(PositionDoc::Vector(v))
+            }
+        }
+        d.deserialize_any(PositionVisitor)
+    }
 }
 
 #[derive(Debug, Serialize, Deserialize)]
@@ -1869,6 +1908,25 @@ mod tests {
         );
         assert_eq!(j.axis, DVec3::Z);
         assert_eq!(j.limits, JointLimits::UNLIMITED);
+    }
+
+    #[test]
+    fn positions_are_numbers_or_arrays() {
+        let json = |position: &str| {
+            format!(
+                r#"{{ "links": [{{"name": "a"}}, {{"name": "b"}}],
+                    "joints": [{{"name": "j", "type": "revolute", "parent": "a", "child": "b", "position": {position}}}] }}"#
+            )
+        };
+        for ok in ["1", "-2.5", "[0.1, 0.2]", "[]"] {
+            assert!(Model::from_json_str(&json(ok), None).is_ok(), "{ok}");
+        }
+        let e = Model::from_json_str(&json("\"up\""), None).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("expected a number or an array of numbers for `position`"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -1,25 +1,31 @@
 //! # kinetree-model
 //!
 //! The model layer of kinetree: an immutable [`Model`] of links (parts), joints and named
-//! frames, validated once by [`ModelBuilder`] and loaded from URDF ([`Model::from_urdf_file`]).
-//! It sits on `kinetree-spatial` and below the kinematics layer; the algorithms above it sweep
-//! over [`Model::bodies`], the moving-body tree in which chains of fixed joints are merged.
+//! frames, validated once by [`ModelBuilder`]. It sits on `kinetree-spatial` and below the
+//! kinematics layer; the algorithms above it sweep over [`Model::bodies`], the moving-body tree
+//! in which chains of fixed joints are merged.
+//!
+//! Models come from and go to:
+//! - URDF: [`Model::from_urdf_file`], [`Model::from_urdf_str`], [`Model::to_urdf_string`];
+//! - kinetree's own JSON schema (parts with metadata, named frames, external datum files, files
+//!   in millimetres and degrees): [`Model::from_json_file`], [`Model::from_json_str`],
+//!   [`Model::to_json_string`] — see [`json`] for the schema;
+//! - either, by file extension: [`Model::from_file`];
+//! - Denavit–Hartenberg tables, standard or modified: [`Model::from_dh`] (see [`dh`]);
+//! - code: [`ModelBuilder`], and the ready-made models of [`samples`].
 //!
 //! ```
-//! use kinetree_model::{Model, RootJoint};
+//! use kinetree_model::{samples, JsonOptions, Model, Units};
 //! # fn main() -> Result<(), kinetree_model::ModelError> {
-//! let urdf = r#"<robot name="pendulum">
-//!   <link name="base"/>
-//!   <link name="bob"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
-//!   <joint name="hinge" type="revolute">
-//!     <parent link="base"/><child link="bob"/><axis xyz="0 1 0"/>
-//!     <limit lower="-3" upper="3" effort="10" velocity="5"/>
-//!   </joint>
-//! </robot>"#;
-//! let model = Model::from_urdf_str(urdf, RootJoint::Fixed)?;
-//! assert_eq!((model.nq(), model.nv()), (1, 1));
-//! let hinge = model.joint(model.joint_index("hinge").unwrap());
-//! assert_eq!(hinge.axis.to_array(), [0.0, 1.0, 0.0]);
+//! let arm = samples::six_axis();
+//! assert_eq!((arm.nq(), arm.nv()), (6, 6));
+//! let elbow = arm.joint(arm.joint_index("elbow_joint").unwrap());
+//! assert_eq!(elbow.axis.to_array(), [0.0, 0.0, 1.0]);
+//!
+//! // Out in millimetres and degrees, back in SI.
+//! let json = arm.to_json_string(&JsonOptions { units: Units::MM_DEG, ..JsonOptions::default() })?;
+//! let back = Model::from_json_str(&json, None)?;
+//! assert_eq!(arm.first_difference(&back, 1e-12), None);
 //! # Ok(())
 //! # }
 //! ```
@@ -31,10 +37,18 @@
 //! - A joint's `placement` is the pose of its frame in the parent link's frame at zero
 //!   configuration; the child link's frame is the joint frame.
 //! - Links and joints are stored depth-first from the root: parents precede children.
+//! - A frame's `placement` is its pose in its link's frame (`link_from_frame`).
+//! - Roll-pitch-yaw angles are URDF's fixed-axis angles: `R = Rz(yaw)·Ry(pitch)·Rx(roll)`.
 //!
 //! ## Errors
-//! Every loader returns [`ModelError`], which names the offending link, joint, frame or file; a
-//! failed load returns nothing half-built.
+//! Every loader returns [`ModelError`], which names the offending link, joint, frame or file
+//! (and gives line and column for malformed XML and JSON); a failed load returns nothing
+//! half-built. Problems that real robot files commonly carry and that do not change the model's
+//! meaning (slightly impossible inertias, dangling mimic tags) are repaired and listed in
+//! [`Model::warnings`]; elements kinetree does not model are listed in [`Model::ignored`].
+//!
+//! ## Optional cargo features
+//! None: URDF (urdf-rs) and JSON (serde) support are always built.
 
 mod builder;
 mod compare;

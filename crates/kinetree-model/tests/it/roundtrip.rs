@@ -1,7 +1,9 @@
 //! Round trips through URDF and JSON export: every reference robot, the samples and the
 //! example-robot-data corpus come back as the same model.
 
-use kinetree_model::{JsonOptions, Model, RootJoint, Units, samples};
+use kinetree_model::{
+    Geometry, JointKind, JsonOptions, Model, ModelError, RootJoint, Units, samples,
+};
 use std::path::PathBuf;
 
 fn reference_urdfs() -> Vec<PathBuf> {
@@ -35,7 +37,7 @@ fn check_round_trips(model: &Model, what: &str) {
     if let Some(d) = model.first_difference(&from_json, 1e-12) {
         panic!("{what}: JSON round trip differs: {d}");
     }
-    // Export again: the text is stable once the model has been through JSON.
+    // And once more: a model read from JSON survives another trip.
     let json2 = from_json.to_json_string(&JsonOptions::default()).unwrap();
     let again = Model::from_json_str(&json2, None).unwrap();
     assert_eq!(from_json.first_difference(&again, 1e-12), None, "{what}");
@@ -64,9 +66,31 @@ fn reference_urdfs_survive_urdf_and_json_round_trips() {
         for root in [RootJoint::Fixed, RootJoint::Floating] {
             let model = Model::from_urdf_file(&path, root).unwrap();
             check_round_trips(&model, &path.display().to_string());
-            // URDF → JSON → Model equals the URDF model, and so does URDF → URDF → Model.
+            // Mesh names, `package://` ones included, are written exactly as they were read.
+            let urdf = model.to_urdf_string().unwrap();
             let json = model.to_json_string(&JsonOptions::default()).unwrap();
-            assert!(json.contains("\"version\": 1"));
+            let mut meshes = 0;
+            for link in model.links() {
+                let shapes = link.visuals.iter().map(|v| &v.geometry);
+                for g in shapes.chain(link.collisions.iter().map(|c| &c.geometry)) {
+                    if let Geometry::Mesh { filename, .. } = g {
+                        assert!(
+                            urdf.contains(&format!("filename=\"{filename}\"")),
+                            "{filename}"
+                        );
+                        assert!(
+                            json.contains(&format!("\"filename\": \"{filename}\"")),
+                            "{filename}"
+                        );
+                        meshes += 1;
+                    }
+                }
+            }
+            let name = path.file_name().unwrap().to_string_lossy();
+            if name == "panda.urdf" {
+                assert_eq!(meshes, 20, "panda's visual and collision meshes");
+                assert!(urdf.contains("package://example-robot-data/robots/panda_description/"));
+            }
         }
     }
 }
@@ -90,4 +114,51 @@ fn example_robot_data_survives_round_trips() {
         let model = Model::from_urdf_file(&path, RootJoint::Fixed).unwrap();
         check_round_trips(&model, &path.display().to_string());
     }
+}
+
+#[test]
+fn random_trees_with_every_joint_kind_survive_round_trips() {
+    let (mut with_urdf, mut cylindrical) = (0, 0);
+    for seed in 0..40 {
+        for root in [RootJoint::Fixed, RootJoint::Floating] {
+            let model = samples::random_tree_with_root(seed, 25, root);
+            let what = format!("random tree {seed} ({root:?})");
+            let json = model.to_json_string(&JsonOptions::default()).unwrap();
+            let back = Model::from_json_str(&json, None).unwrap();
+            assert_eq!(model.first_difference(&back, 1e-12), None, "{what}");
+            let has_cylindrical = model
+                .joints()
+                .iter()
+                .any(|j| j.kind == JointKind::Cylindrical);
+            match model.to_urdf_string() {
+                Ok(urdf) => {
+                    assert!(!has_cylindrical, "{what}");
+                    let back = Model::from_urdf_str(&urdf, root).unwrap();
+                    // Named frames are the only thing URDF cannot carry.
+                    let frames_lost = format!("{} frames vs 0", model.frames().len());
+                    match model.first_difference(&back, 1e-12) {
+                        None => {}
+                        Some(d) => assert_eq!(d, frames_lost, "{what}"),
+                    }
+                    with_urdf += 1;
+                }
+                Err(e) => {
+                    assert!(has_cylindrical, "{what}: {e}");
+                    assert!(matches!(
+                        e,
+                        ModelError::UnsupportedJoint {
+                            kind: JointKind::Cylindrical,
+                            ..
+                        }
+                    ));
+                    cylindrical += 1;
+                }
+            }
+        }
+    }
+    // Both paths were exercised.
+    assert!(
+        with_urdf > 0 && cylindrical > 0,
+        "{with_urdf} {cylindrical}"
+    );
 }
