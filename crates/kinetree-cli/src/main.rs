@@ -24,7 +24,8 @@ enum Command {
     Inspect(cmd::inspect::Args),
     /// Convert a model between URDF and JSON (formats chosen by the file extensions).
     Convert(cmd::convert::Args),
-    // Later commands slot in here, one module each: compute, bench, dynamics, ik, workspace, collide, simulate.
+    // Later commands slot in here, one module each: compute, bench, dynamics, ik, workspace,
+    // collide, simulate.
 }
 
 fn main() -> ExitCode {
