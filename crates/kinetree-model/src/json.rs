@@ -726,12 +726,18 @@ fn schema_error(file: Option<&Path>, message: String) -> ModelError {
     }
 }
 
-/// Converts a serde_json error, keeping its line and column apart from the message.
-fn json_error(e: &serde_json::Error, file: Option<&Path>) -> ModelError {
+/// A serde_json error's line, column and message (without serde_json's location suffix).
+fn json_location(e: &serde_json::Error) -> (usize, usize, String) {
     let (line, column) = (e.line(), e.column());
     let full = e.to_string();
     let suffix = format!(" at line {line} column {column}");
     let message = full.strip_suffix(&suffix).unwrap_or(&full).to_string();
+    (line, column, message)
+}
+
+/// Converts a serde_json error, keeping its line and column apart from the message.
+fn json_error(e: &serde_json::Error, file: Option<&Path>) -> ModelError {
+    let (line, column, message) = json_location(e);
     ModelError::Json {
         file: file.map(Path::to_path_buf),
         line,
@@ -895,15 +901,7 @@ impl DatumResolver<'_> {
             let text = std::fs::read_to_string(&path)
                 .map_err(|e| err(format!("cannot read the datum file: {e}")))?;
             let doc: DatumFileDoc = serde_json::from_str(&text).map_err(|e| {
-                let ModelError::Json {
-                    line,
-                    column,
-                    message,
-                    ..
-                } = json_error(&e, None)
-                else {
-                    unreachable!("json_error returns ModelError::Json")
-                };
+                let (line, column, message) = json_location(&e);
                 err(format!(
                     "malformed datum file at line {line}, column {column}: {message}"
                 ))
@@ -1927,6 +1925,18 @@ mod tests {
                 .contains("expected a number or an array of numbers for `position`"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn parts_is_another_name_for_links() {
+        let m = Model::from_json_str(
+            r#"{"name": "kit", "parts": [{"name": "BASE"}, {"name": "LINK1"}],
+                "joints": [{"name": "j1", "type": "revolute", "parent": "BASE", "child": "LINK1"}]}"#,
+            None,
+        )
+        .unwrap();
+        assert_eq!((m.name(), m.links().len(), m.nq()), ("kit", 2, 1));
+        assert_eq!(m.link(1).name, "LINK1");
     }
 
     #[test]
