@@ -1,1 +1,90 @@
-//! placeholder
+//! # kinetree-dynamics
+//!
+//! The dynamics layer of kinetree: how an articulated rigid body accelerates under torques,
+//! gravity and external forces. Inverse dynamics ([`rnea`], [`nonlinear_effects`],
+//! [`generalized_gravity`]), the joint-space mass matrix ([`crba`]) and its tree-sparse
+//! factorization ([`factorize_mass_matrix`], [`solve_mass_matrix`], [`mass_matrix_inverse`]),
+//! forward dynamics ([`aba`]), energies, centre of mass and centroidal momentum, and a
+//! fixed-step integrator ([`step`]). It sits on `kinetree-kinematics` (re-exported as
+//! [`kinematics`], with [`model`] and [`spatial`] below it).
+//!
+//! Algorithms are plain functions over `(&Model, &mut DynamicsData, inputs)` that return a borrow
+//! of their result stored in the [`DynamicsData`], as Pinocchio returns `data.tau`. Once the
+//! `DynamicsData` exists, no algorithm allocates.
+//!
+//! ```
+//! use kinetree_dynamics::{aba, crba, rnea, DynamicsData};
+//! use kinetree_dynamics::kinematics::configuration;
+//! use kinetree_dynamics::model::{Model, RootJoint};
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/reference/urdf/ur5.urdf");
+//! let model = Model::from_urdf_file(path, RootJoint::Fixed)?;
+//! let mut data = DynamicsData::new(&model);
+//! let q = configuration::neutral_configuration(&model);
+//! let (v, a) = (vec![0.1; model.nv()], vec![0.5; model.nv()]);
+//! // Inverse dynamics: the torques for acceleration a …
+//! let tau = rnea(&model, &mut data, &q, &v, &a)?.to_vec();
+//! // … and forward dynamics gives a back.
+//! let ddq = aba(&model, &mut data, &q, &v, &tau)?;
+//! assert!(ddq.iter().zip(&a).all(|(x, y)| (x - y).abs() < 1e-9));
+//! // The mass matrix, row-major: symmetric, positive diagonal.
+//! let m = crba(&model, &mut data, &q)?;
+//! assert!((m[1] - m[model.nv()]).abs() < 1e-15 && m[0] > 0.0);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! ## Conventions
+//! - SI units: kg, m, s, rad, N, N·m, J. Gravity is [`Model::gravity`](model::Model::gravity)
+//!   (default `[0, 0, -9.81]` in the world frame).
+//! - `q` has `model.nq()` entries; `v`, `a` (= `q̈`), `tau` have `model.nv()` (per-joint layouts in
+//!   [`JointKind`](model::JointKind); quaternions x, y, z, w). Floating-base velocities and
+//!   accelerations are `[linear; angular]` in the base frame, with `a` the derivative of that
+//!   twist; the floating-base entries of `tau` are the wrench on the base in the base frame.
+//! - Spatial vectors are `[linear; angular]` (forces `[force; torque]`); the [`exudyn`] helpers
+//!   use Featherstone's `[angular; linear]`, as Exudyn does.
+//! - Matrices (mass matrix and its inverse) are `nv x nv`, row-major, full and symmetric.
+//! - The equations of motion are `M(q)·q̈ + C(q, q̇)·q̇ + g(q) = τ + Σ Jᵀ·f_ext`, with the joints'
+//!   armature, damping and friction added as described in [`JointTerms`] (zero when the model
+//!   has none; [`JointTerms::Ignored`] turns them off, as in Pinocchio and the reference data).
+//! - Mass properties count the moving bodies only: the links welded to the world (a fixed root
+//!   and its fixed attachments) are left out of [`total_mass`], the centre of mass and the
+//!   energies, as in Pinocchio.
+//!
+//! ## Errors
+//! [`DynamicsError`] names the offending input, joint or link: wrong lengths, NaN inputs, data
+//! built for another model, unknown links in external forces, and singular mass matrices
+//! (massless subtrees, naming the joints) are errors, never panics or NaN results.
+//!
+//! ## Optional cargo features
+//! None.
+
+mod aba;
+mod all_terms;
+mod com;
+mod crba;
+mod data;
+mod energy;
+mod error;
+mod external;
+pub mod exudyn;
+mod factor;
+mod integrator;
+mod rnea;
+
+pub use aba::{aba, aba_with_external_forces};
+pub use all_terms::{AllTerms, compute_all_terms};
+pub use com::{
+    center_of_mass, center_of_mass_jacobian, center_of_mass_velocity, centroidal_momentum,
+    total_mass,
+};
+pub use crba::crba;
+pub use data::{DynamicsData, JointTerms};
+pub use energy::{kinetic_energy, mechanical_energy, potential_energy};
+pub use error::DynamicsError;
+pub use external::ExternalForces;
+pub use factor::{factorize_mass_matrix, mass_matrix_inverse, solve_mass_matrix};
+pub use integrator::{Integrator, step, step_with_external_forces};
+pub use kinetree_kinematics as kinematics;
+pub use kinetree_kinematics::{FrameId, ReferenceFrame, model, spatial};
+pub use rnea::{generalized_gravity, nonlinear_effects, rnea, rnea_with_external_forces};

@@ -1,0 +1,119 @@
+//! The joint-space mass matrix: the composite rigid-body algorithm.
+
+use crate::data::DynamicsData;
+use crate::error::DynamicsError;
+use crate::rnea::check_inputs;
+use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::Force;
+
+/// The joint-space mass (inertia) matrix `M(q)`: `nv x nv`, symmetric positive (semi-)definite,
+/// with `½·q̇ᵀ·M·q̇` the kinetic energy.
+///
+/// `q` has length `model.nq()`. The full symmetric matrix is stored row-major in
+/// [`DynamicsData::mass_matrix`] (`m[i * nv + j]`) and returned. With
+/// [`JointTerms::FromModel`] the joints' armature is added to the diagonal. Entries of two
+/// joints on different branches (neither an ancestor of the other) are zero.
+///
+/// Composite rigid-body algorithm in body-local coordinates (Featherstone's CRBA; Pinocchio ≥ 3's
+/// default `Convention::LOCAL`): O(n·depth), allocates nothing.
+///
+/// # Errors
+/// [`DynamicsError::DimensionMismatch`] or [`DynamicsError::NonFinite`] for a bad `q`;
+/// [`DynamicsError::DataMismatch`] when `data` belongs to another model.
+///
+/// # Examples
+/// ```
+/// use kinetree_dynamics::{crba, DynamicsData};
+/// use kinetree_dynamics::model::{Model, RootJoint};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let urdf = r#"<robot name="pendulum"><link name="base"/>
+///   <link name="bob"><inertial><origin xyz="0.5 0 0"/><mass value="2"/>
+///     <inertia ixx="0" iyy="0.1" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+///   <joint name="hinge" type="continuous"><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/></joint>
+/// </robot>"#;
+/// let model = Model::from_urdf_str(urdf, RootJoint::Fixed)?;
+/// let mut data = DynamicsData::new(&model);
+/// let m = crba(&model, &mut data, &[0.3])?;
+/// // I_yy + m·l² = 0.1 + 2·0.25.
+/// assert!((m[0] - 0.6).abs() < 1e-12);
+/// # Ok(())
+/// # }
+/// ```
+///
+/// [`JointTerms::FromModel`]: crate::JointTerms::FromModel
+#[doc(alias = "mass_matrix")]
+#[doc(alias = "inertia_matrix")]
+#[doc(alias = "joint_space_inertia_matrix")]
+pub fn crba<'d>(
+    model: &Model,
+    data: &'d mut DynamicsData,
+    q: &[f64],
+) -> Result<&'d [f64], DynamicsError> {
+    check_inputs(model, data, q, None, None)?;
+    compute(model, data, q);
+    Ok(&data.mass_matrix)
+}
+
+/// The CRBA sweeps (inputs already checked).
+pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
+    let bodies = model.bodies();
+    let joint_models = data.kinematics.joint_models();
+    let nv = data.nv;
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        data.parent_from_body[i] =
+            joint_models[i].placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        data.composite[i] = b.inertia;
+    }
+    let m = &mut data.mass_matrix;
+    let mut f = [Force::ZERO; 6];
+    let mut col = [0.0; 6];
+    for i in (1..bodies.len()).rev() {
+        let b = &bodies[i];
+        let jm = &joint_models[i];
+        let (iv, ni) = (b.idx_v, b.nv);
+        let ic = data.composite[i];
+        for k in 0..ni {
+            f[k] = ic.mul_motion(&jm.subspace_column(k));
+        }
+        // Diagonal block: Sᵢᵀ·Icᵢ·Sᵢ.
+        for k in 0..ni {
+            jm.project_force(&f[k], &mut col[..ni]);
+            for l in k..ni {
+                m[(iv + l) * nv + iv + k] = col[l];
+                m[(iv + k) * nv + iv + l] = col[l];
+            }
+        }
+        // Off-diagonal blocks: carry the forces up to every ancestor.
+        let mut j = i;
+        loop {
+            let p = bodies[j].parent;
+            if p == 0 {
+                break;
+            }
+            let x = &data.parent_from_body[j];
+            for fk in f[..ni].iter_mut() {
+                *fk = x.act_force(fk);
+            }
+            j = p;
+            let bj = &bodies[j];
+            let (jv, nj) = (bj.idx_v, bj.nv);
+            for k in 0..ni {
+                joint_models[j].project_force(&f[k], &mut col[..nj]);
+                for l in 0..nj {
+                    m[(jv + l) * nv + iv + k] = col[l];
+                    m[(iv + k) * nv + jv + l] = col[l];
+                }
+            }
+        }
+        if b.parent != 0 {
+            let moved = ic.transformed(&data.parent_from_body[i]);
+            data.composite[b.parent] += moved;
+        }
+    }
+    if data.has_joint_terms {
+        for k in 0..nv {
+            m[k * nv + k] += data.armature[k];
+        }
+    }
+}

@@ -1,0 +1,408 @@
+//! [`DynamicsData`]: every buffer the dynamics algorithms write, allocated once per model.
+
+use crate::aba::ArticulatedInertia;
+use crate::error::DynamicsError;
+use kinetree_kinematics::KinematicsData;
+use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::glam::DVec3;
+use kinetree_kinematics::spatial::{Force, Inertia, Motion, Se3};
+
+/// Marks "no parent" in the degree-of-freedom parent array.
+pub(crate) const NO_PARENT: usize = usize::MAX;
+
+/// Whether the joints' damping, friction and armature ([`JointDynamics`]) enter the equations of
+/// motion.
+///
+/// With [`JointTerms::FromModel`] (the default) every algorithm uses, per degree of freedom of a
+/// joint, the joint's `armature` `r`, `damping` `d` and `friction` `μ`:
+///
+/// `(M(q) + diag(r))·q̈ + C(q, q̇)·q̇ + g(q) + d·q̇ + μ·sign(q̇) = τ + Jᵀ·f_ext`
+///
+/// - armature (rotor inertia reflected through the gearbox) is added to the diagonal of the mass
+///   matrix ([`crba`](crate::crba)), to the joint's articulated inertia ([`aba`](crate::aba)),
+///   and as `r·q̈` to [`rnea`](crate::rnea); the kinetic energy gains `½·r·q̇²`;
+/// - damping is a viscous torque `-d·q̇` acting on the joint: [`rnea`](crate::rnea) and
+///   [`nonlinear_effects`](crate::nonlinear_effects) add `d·q̇` to the torque they return,
+///   [`aba`](crate::aba) subtracts it from the applied torque;
+/// - friction is Coulomb (sliding) friction `-μ·sign(q̇)` with `sign(0) = 0`, treated like damping.
+///   Static friction (sticking at `q̇ = 0`) is not modelled, and the term is discontinuous at
+///   `q̇ = 0`: a simulation with friction chatters around rest unless the time step is small.
+///
+/// URDF files give damping and friction in `<dynamics>`; without that element they are zero.
+/// Pinocchio (and the reference data) ignores them: compare with [`JointTerms::Ignored`].
+///
+/// [`JointDynamics`]: kinetree_kinematics::model::JointDynamics
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum JointTerms {
+    /// Use each joint's damping, friction and armature from the model.
+    #[default]
+    FromModel,
+    /// Ignore them (rigid-body dynamics only, as Pinocchio's algorithms).
+    Ignored,
+}
+
+/// The buffers of the dynamics algorithms for one [`Model`]: joint torques, the mass matrix and
+/// its factorization, accelerations, per-body spatial quantities, centre-of-mass results and the
+/// integrator's stages. It contains a [`KinematicsData`] ([`DynamicsData::kinematics`]).
+///
+/// Create it once with [`DynamicsData::new`]; no algorithm of this crate allocates afterwards
+/// (except on an error path, to name the offending joints). A `DynamicsData` must only be used
+/// with the model it was created for (checked at entry of every algorithm by comparing sizes).
+#[derive(Clone, Debug)]
+pub struct DynamicsData {
+    pub(crate) kinematics: KinematicsData,
+    pub(crate) nq: usize,
+    pub(crate) nv: usize,
+    pub(crate) nbodies: usize,
+    pub(crate) nlinks: usize,
+    pub(crate) nframes: usize,
+    pub(crate) joint_terms: JointTerms,
+    /// Whether any of `armature`, `damping`, `friction` is nonzero.
+    pub(crate) has_joint_terms: bool,
+    pub(crate) armature: Vec<f64>,
+    pub(crate) damping: Vec<f64>,
+    pub(crate) friction: Vec<f64>,
+    /// Body of each degree of freedom.
+    pub(crate) dof_body: Vec<usize>,
+    /// Parent degree of freedom (Featherstone's λ for the mass matrix sparsity), or `NO_PARENT`.
+    pub(crate) dof_parent: Vec<usize>,
+    /// One past the last degree of freedom in the subtree of each degree of freedom.
+    pub(crate) dof_subtree_end: Vec<usize>,
+    // Per body.
+    pub(crate) parent_from_body: Vec<Se3>,
+    pub(crate) world_from_body: Vec<Se3>,
+    pub(crate) velocity: Vec<Motion>,
+    pub(crate) acceleration: Vec<Motion>,
+    pub(crate) force: Vec<Force>,
+    pub(crate) composite: Vec<Inertia>,
+    pub(crate) articulated: Vec<ArticulatedInertia>,
+    pub(crate) bias: Vec<Motion>,
+    /// Offset of each body's block in `dinv` (sum of the squares of the preceding `nv`s).
+    pub(crate) dinv_offset: Vec<usize>,
+    // Per degree of freedom.
+    pub(crate) subspace: Vec<Motion>,
+    pub(crate) u_columns: Vec<Force>,
+    pub(crate) u: Vec<f64>,
+    pub(crate) dinv: Vec<f64>,
+    // Results.
+    pub(crate) tau: Vec<f64>,
+    pub(crate) nle: Vec<f64>,
+    pub(crate) gravity_torque: Vec<f64>,
+    pub(crate) ddq: Vec<f64>,
+    pub(crate) mass_matrix: Vec<f64>,
+    pub(crate) factor: Vec<f64>,
+    pub(crate) factorized: bool,
+    pub(crate) mass_matrix_inverse: Vec<f64>,
+    pub(crate) rhs: Vec<f64>,
+    pub(crate) com: DVec3,
+    pub(crate) com_velocity: DVec3,
+    pub(crate) com_jacobian: Vec<DVec3>,
+    pub(crate) subtree_mass: Vec<f64>,
+    pub(crate) subtree_moment: Vec<DVec3>,
+    pub(crate) centroidal_momentum: Force,
+    // Integrator stages.
+    pub(crate) q_stage: Vec<f64>,
+    pub(crate) v_stage: Vec<f64>,
+    pub(crate) theta: Vec<f64>,
+    pub(crate) k_vel: [Vec<f64>; 4],
+    pub(crate) k_acc: [Vec<f64>; 4],
+}
+
+impl DynamicsData {
+    /// Allocates every buffer for `model`, with the joints' damping, friction and armature taken
+    /// from the model ([`JointTerms::FromModel`]).
+    #[must_use]
+    pub fn new(model: &Model) -> Self {
+        Self::with_joint_terms(model, JointTerms::FromModel)
+    }
+
+    /// Allocates every buffer for `model`, choosing whether the joints' damping, friction and
+    /// armature enter the dynamics (see [`JointTerms`]).
+    #[must_use]
+    pub fn with_joint_terms(model: &Model, joint_terms: JointTerms) -> Self {
+        let nv = model.nv();
+        let nb = model.nbodies();
+        let bodies = model.bodies();
+        let mut dof_body = vec![0; nv];
+        let mut dof_parent = vec![NO_PARENT; nv];
+        let mut dof_subtree_end = vec![0; nv];
+        let mut dinv_offset = vec![0; nb + 1];
+        // The last degree of freedom of each body (or NO_PARENT for the world).
+        let mut last_dof = vec![NO_PARENT; nb];
+        for (i, b) in bodies.iter().enumerate() {
+            dinv_offset[i + 1] = dinv_offset[i] + b.nv * b.nv;
+            if i == 0 {
+                continue;
+            }
+            let end = bodies
+                .get(b.subtree_end.saturating_sub(1))
+                .map_or(nv, |last| last.idx_v + last.nv);
+            for k in 0..b.nv {
+                let d = b.idx_v + k;
+                dof_body[d] = i;
+                dof_parent[d] = if k > 0 { d - 1 } else { last_dof[b.parent] };
+                dof_subtree_end[d] = end;
+            }
+            last_dof[i] = if b.nv > 0 {
+                b.idx_v + b.nv - 1
+            } else {
+                last_dof[b.parent]
+            };
+        }
+        let mut data = Self {
+            kinematics: KinematicsData::new(model),
+            nq: model.nq(),
+            nv,
+            nbodies: nb,
+            nlinks: model.links().len(),
+            nframes: model.frames().len(),
+            joint_terms,
+            has_joint_terms: false,
+            armature: vec![0.0; nv],
+            damping: vec![0.0; nv],
+            friction: vec![0.0; nv],
+            dof_body,
+            dof_parent,
+            dof_subtree_end,
+            parent_from_body: vec![Se3::IDENTITY; nb],
+            world_from_body: vec![Se3::IDENTITY; nb],
+            velocity: vec![Motion::ZERO; nb],
+            acceleration: vec![Motion::ZERO; nb],
+            force: vec![Force::ZERO; nb],
+            composite: vec![Inertia::ZERO; nb],
+            articulated: vec![ArticulatedInertia::ZERO; nb],
+            bias: vec![Motion::ZERO; nb],
+            subspace: vec![Motion::ZERO; nv],
+            u_columns: vec![Force::ZERO; nv],
+            u: vec![0.0; nv],
+            dinv: vec![0.0; dinv_offset[nb]],
+            dinv_offset,
+            tau: vec![0.0; nv],
+            nle: vec![0.0; nv],
+            gravity_torque: vec![0.0; nv],
+            ddq: vec![0.0; nv],
+            mass_matrix: vec![0.0; nv * nv],
+            factor: vec![0.0; nv * nv],
+            factorized: false,
+            mass_matrix_inverse: vec![0.0; nv * nv],
+            rhs: vec![0.0; nv],
+            com: DVec3::ZERO,
+            com_velocity: DVec3::ZERO,
+            com_jacobian: vec![DVec3::ZERO; nv],
+            subtree_mass: vec![0.0; nb],
+            subtree_moment: vec![DVec3::ZERO; nb],
+            centroidal_momentum: Force::ZERO,
+            q_stage: vec![0.0; model.nq()],
+            v_stage: vec![0.0; nv],
+            theta: vec![0.0; nv],
+            k_vel: core::array::from_fn(|_| vec![0.0; nv]),
+            k_acc: core::array::from_fn(|_| vec![0.0; nv]),
+        };
+        data.fill_joint_terms(model, joint_terms);
+        data
+    }
+
+    /// Switches the joints' damping, friction and armature on or off (see [`JointTerms`]).
+    /// Allocates nothing.
+    ///
+    /// # Errors
+    /// [`DynamicsError::DataMismatch`] when `self` belongs to another model.
+    pub fn set_joint_terms(
+        &mut self,
+        model: &Model,
+        joint_terms: JointTerms,
+    ) -> Result<(), DynamicsError> {
+        self.check_model(model)?;
+        self.fill_joint_terms(model, joint_terms);
+        Ok(())
+    }
+
+    fn fill_joint_terms(&mut self, model: &Model, joint_terms: JointTerms) {
+        self.joint_terms = joint_terms;
+        self.armature.fill(0.0);
+        self.damping.fill(0.0);
+        self.friction.fill(0.0);
+        if joint_terms == JointTerms::FromModel {
+            for b in model.bodies().iter().skip(1) {
+                let Some(j) = b.joint else { continue };
+                let dynamics = model.joint(j).dynamics;
+                for k in b.idx_v..b.idx_v + b.nv {
+                    self.armature[k] = dynamics.armature;
+                    self.damping[k] = dynamics.damping;
+                    self.friction[k] = dynamics.friction;
+                }
+            }
+        }
+        self.has_joint_terms = [&self.armature, &self.damping, &self.friction]
+            .iter()
+            .any(|x| x.iter().any(|&y| y != 0.0));
+        // The factorization belongs to the old mass matrix.
+        self.factorized = false;
+    }
+
+    /// Whether the joints' damping, friction and armature are used (see [`JointTerms`]).
+    #[must_use]
+    pub fn joint_terms(&self) -> JointTerms {
+        self.joint_terms
+    }
+
+    /// Checks that this data belongs to `model`.
+    ///
+    /// # Errors
+    /// [`DynamicsError::DataMismatch`].
+    pub fn check_model(&self, model: &Model) -> Result<(), DynamicsError> {
+        if self.nbodies != model.nbodies()
+            || self.nv != model.nv()
+            || self.nq != model.nq()
+            || self.nlinks != model.links().len()
+            || self.nframes != model.frames().len()
+            || self.kinematics.check_model(model).is_err()
+        {
+            return Err(DynamicsError::DataMismatch {
+                what: "data",
+                data_bodies: self.nbodies,
+                data_nv: self.nv,
+                model_bodies: model.nbodies(),
+                model_nv: model.nv(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The kinematics buffers. The centre-of-mass, energy and momentum functions run forward
+    /// kinematics here, so after them it holds the placements (and velocities) of that call;
+    /// [`rnea`](crate::rnea), [`crba`](crate::crba) and [`aba`](crate::aba) use their own
+    /// buffers and leave it untouched.
+    #[inline]
+    #[must_use]
+    pub fn kinematics(&self) -> &KinematicsData {
+        &self.kinematics
+    }
+
+    /// Mutable access to the kinematics buffers, to run kinematics algorithms on them.
+    #[inline]
+    #[must_use]
+    pub fn kinematics_mut(&mut self) -> &mut KinematicsData {
+        &mut self.kinematics
+    }
+
+    /// The joint torques of the last [`rnea`](crate::rnea) (length `nv`).
+    #[inline]
+    #[must_use]
+    pub fn tau(&self) -> &[f64] {
+        &self.tau
+    }
+
+    /// The nonlinear effects `C(q, q̇)·q̇ + g(q)` of the last
+    /// [`nonlinear_effects`](crate::nonlinear_effects) (length `nv`).
+    #[inline]
+    #[must_use]
+    pub fn nle(&self) -> &[f64] {
+        &self.nle
+    }
+
+    /// The generalized gravity `g(q)` of the last
+    /// [`generalized_gravity`](crate::generalized_gravity) (length `nv`).
+    #[inline]
+    #[must_use]
+    pub fn gravity_torque(&self) -> &[f64] {
+        &self.gravity_torque
+    }
+
+    /// The joint accelerations `q̈` of the last [`aba`](crate::aba) (length `nv`).
+    #[inline]
+    #[must_use]
+    pub fn ddq(&self) -> &[f64] {
+        &self.ddq
+    }
+
+    /// The joint-space mass matrix of the last [`crba`](crate::crba): `nv x nv`, row-major, full
+    /// and symmetric (`m[i * nv + j]`).
+    #[inline]
+    #[must_use]
+    pub fn mass_matrix(&self) -> &[f64] {
+        &self.mass_matrix
+    }
+
+    /// The inverse mass matrix of the last
+    /// [`mass_matrix_inverse`](crate::mass_matrix_inverse): `nv x nv`, row-major, full and
+    /// symmetric.
+    #[inline]
+    #[must_use]
+    pub fn mass_matrix_inverse(&self) -> &[f64] {
+        &self.mass_matrix_inverse
+    }
+
+    /// The centre of mass (world frame) of the last centre-of-mass computation.
+    #[inline]
+    #[must_use]
+    pub fn com(&self) -> DVec3 {
+        self.com
+    }
+
+    /// The centre-of-mass velocity (world frame) of the last
+    /// [`center_of_mass_velocity`](crate::center_of_mass_velocity).
+    #[inline]
+    #[must_use]
+    pub fn com_velocity(&self) -> DVec3 {
+        self.com_velocity
+    }
+
+    /// The centre-of-mass Jacobian of the last
+    /// [`center_of_mass_jacobian`](crate::center_of_mass_jacobian): `nv` columns (world frame).
+    #[inline]
+    #[must_use]
+    pub fn com_jacobian(&self) -> &[DVec3] {
+        &self.com_jacobian
+    }
+
+    /// The centroidal momentum of the last
+    /// [`centroidal_momentum`](crate::centroidal_momentum).
+    #[inline]
+    #[must_use]
+    pub fn centroidal_momentum(&self) -> Force {
+        self.centroidal_momentum
+    }
+
+    /// Spatial velocity of each body in its own frame after [`rnea`](crate::rnea) (index 0 is
+    /// the world).
+    #[inline]
+    #[must_use]
+    pub fn body_velocity(&self) -> &[Motion] {
+        &self.velocity
+    }
+
+    /// Spatial force each body exerts on its subtree through its joint, in the body's frame,
+    /// after [`rnea`](crate::rnea) (Pinocchio's `data.f`; index 0 is unused).
+    #[inline]
+    #[must_use]
+    pub fn joint_wrench(&self) -> &[Force] {
+        &self.force
+    }
+
+    /// The names of the joints owning the given degrees of freedom, deduplicated, in order.
+    pub(crate) fn joint_names(&self, model: &Model, dofs: &[usize]) -> Vec<String> {
+        let mut names: Vec<String> = Vec::new();
+        for &k in dofs {
+            let body = &model.bodies()[self.dof_body[k]];
+            if let Some(j) = body.joint {
+                let name = &model.joint(j).name;
+                if names.last() != Some(name) && !names.contains(name) {
+                    names.push(name.clone());
+                }
+            }
+        }
+        names
+    }
+}
+
+#[inline]
+pub(crate) fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}

@@ -1,0 +1,113 @@
+//! The dynamics layer's error type.
+
+use kinetree_kinematics::KinematicsError;
+
+/// Everything that can go wrong in the dynamics layer.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DynamicsError {
+    /// An error from the kinematics layer (or, through it, the model layer).
+    #[error(transparent)]
+    Kinematics(#[from] KinematicsError),
+    /// An input vector or output buffer has the wrong length.
+    #[error("{what} has length {actual}, expected {expected}")]
+    DimensionMismatch {
+        /// Which input (`"q"`, `"v"`, `"a"`, `"tau"`, `"rhs"`, …).
+        what: &'static str,
+        /// The required length.
+        expected: usize,
+        /// The length given.
+        actual: usize,
+    },
+    /// An input contains NaN or an infinity.
+    #[error("{what}[{index}] is not finite")]
+    NonFinite {
+        /// Which input.
+        what: &'static str,
+        /// The first offending index.
+        index: usize,
+    },
+    /// A data object (or an [`ExternalForces`](crate::ExternalForces)) was created for a different
+    /// model.
+    #[error(
+        "the {what} was created for a model with {data_bodies} bodies and nv = {data_nv}, not this one ({model_bodies} bodies, nv = {model_nv})"
+    )]
+    DataMismatch {
+        /// `"data"` or `"external forces"`.
+        what: &'static str,
+        /// Bodies (or links, for external forces) of the data's model.
+        data_bodies: usize,
+        /// nv (or named frames, for external forces) of the data's model.
+        data_nv: usize,
+        /// Bodies (or links) of the model passed in.
+        model_bodies: usize,
+        /// nv (or named frames) of the model passed in.
+        model_nv: usize,
+    },
+    /// The joint-space mass matrix is singular (not positive definite): the named joints move no
+    /// mass or inertia along some direction, typically because everything they carry is
+    /// massless (e.g. inertia-free finger links). Forward dynamics is undefined there.
+    #[error("the mass matrix is singular: joint(s) {} move no mass (massless subtree)", .joints.join(", "))]
+    SingularMassMatrix {
+        /// The joints whose pivots vanished, in body order.
+        joints: Vec<String>,
+    },
+    /// No link or frame has this name.
+    #[error("unknown link or frame '{name}'")]
+    UnknownLink {
+        /// The name looked up.
+        name: String,
+    },
+    /// A link or frame index is out of range.
+    #[error("{what} index {index} is out of range (the model has {count})")]
+    IndexOutOfRange {
+        /// `"link"` or `"frame"`.
+        what: &'static str,
+        /// The index given.
+        index: usize,
+        /// How many the model has.
+        count: usize,
+    },
+    /// The centre of mass is undefined: no moving body carries mass.
+    #[error("the centre of mass is undefined: the moving bodies carry no mass")]
+    ZeroMass,
+    /// [`solve_mass_matrix`](crate::solve_mass_matrix) was called before a successful
+    /// [`factorize_mass_matrix`](crate::factorize_mass_matrix).
+    #[error("the mass matrix has not been factorized (call factorize_mass_matrix first)")]
+    NotFactorized,
+    /// A time step that is not positive and finite.
+    #[error("time step {dt} is not positive and finite")]
+    InvalidTimeStep {
+        /// The step given (s).
+        dt: f64,
+    },
+}
+
+/// Checks the length and finiteness of an input vector.
+pub(crate) fn check_vector(
+    what: &'static str,
+    x: &[f64],
+    expected: usize,
+) -> Result<(), DynamicsError> {
+    check_len(what, x, expected)?;
+    if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+        return Err(DynamicsError::NonFinite { what, index });
+    }
+    Ok(())
+}
+
+/// Checks the length of a vector or buffer.
+pub(crate) fn check_len(
+    what: &'static str,
+    x: &[f64],
+    expected: usize,
+) -> Result<(), DynamicsError> {
+    if x.len() != expected {
+        return Err(DynamicsError::DimensionMismatch {
+            what,
+            expected,
+            actual: x.len(),
+        });
+    }
+    Ok(())
+}

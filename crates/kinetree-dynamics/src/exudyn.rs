@@ -1,0 +1,292 @@
+//! Helpers with the names [Exudyn](https://github.com/jgerstmayr/EXUDYN) users know from its
+//! `exudyn.kinematicTree` and `exudyn.rigidBodyUtilities` Python modules (which follow
+//! Featherstone's spatial algebra), for porting code and checking results side by side.
+//!
+//! Exudyn's 6x6 forms (`T66`) use **Featherstone's order `[angular; linear]`**, unlike the rest
+//! of kinetree (`[linear; angular]`); the matrices returned here follow Exudyn. Inertia tensors
+//! passed in or out are about the centre of mass, as in Exudyn. The joint-space functions use
+//! kinetree's `q`/`v` layout (see the crate docs).
+//!
+//! | Exudyn | here |
+//! |---|---|
+//! | `MassCOMinertia2T66(mass, centerOfMass, inertia)` | [`mass_com_inertia_to_t66`] |
+//! | `Inertia2T66(inertia)` | [`inertia_to_t66`] |
+//! | `Inertia66toMassCOMinertia(inertia66)` | [`t66_to_mass_com_inertia`] |
+//! | `RotationTranslation2T66(A, v)` | [`rotation_translation_to_t66`] |
+//! | `T66toRotationTranslation(T66)` | [`t66_to_rotation_translation`] |
+//! | `JointTransformMotionSubspace66(jointType, q)` | [`joint_transform_motion_subspace_66`] |
+//! | `KinematicTree66.ComputeMassMatrixAndForceTerms(q, q_t, externalForces)` | [`compute_mass_matrix_and_force_terms`] |
+//! | `KinematicTree66.ForwardDynamicsCRB(q, q_t, torques)` | [`forward_dynamics_crb`] |
+
+use crate::data::DynamicsData;
+use crate::error::{DynamicsError, check_vector};
+use crate::external::ExternalForces;
+use crate::rnea::{Output, check_inputs, sweep};
+use kinetree_kinematics::JointModel;
+use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
+use kinetree_kinematics::spatial::{Inertia, Se3, rotation};
+
+/// A 6x6 matrix in Featherstone's `[angular; linear]` order, row-major (`m[row][col]`).
+pub type T66 = [[f64; 6]; 6];
+
+/// Reorders a `[linear; angular]` 6x6 matrix to `[angular; linear]` (and back).
+fn swap_halves(m: &T66) -> T66 {
+    let mut out = [[0.0; 6]; 6];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = m[(i + 3) % 6][(j + 3) % 6];
+        }
+    }
+    out
+}
+
+/// Exudyn's `MassCOMinertia2T66`: the 6x6 spatial inertia, in Featherstone's `[angular; linear]`
+/// order, of a body with `mass` (kg), centre of mass `com` (m, body frame) and rotational inertia
+/// `inertia` about the centre of mass (kg·m², body axes):
+/// `[[I + m·C·Cᵀ, m·C], [m·Cᵀ, m·1]]` with `C = [com]×`.
+#[must_use]
+#[doc(alias = "MassCOMinertia2T66")]
+pub fn mass_com_inertia_to_t66(mass: f64, com: DVec3, inertia: DMat3) -> T66 {
+    let c = rotation::skew(com);
+    let top_left = inertia + c * c.transpose() * mass;
+    let top_right = c * mass;
+    let mut out = [[0.0; 6]; 6];
+    for i in 0..3 {
+        for j in 0..3 {
+            out[i][j] = top_left.col(j)[i];
+            out[i][j + 3] = top_right.col(j)[i];
+            out[i + 3][j] = top_right.col(i)[j];
+        }
+        out[i + 3][i + 3] = mass;
+    }
+    out
+}
+
+/// Exudyn's `Inertia2T66`: the 6x6 form (`[angular; linear]`) of a kinetree [`Inertia`].
+#[must_use]
+#[doc(alias = "Inertia2T66")]
+pub fn inertia_to_t66(inertia: &Inertia) -> T66 {
+    mass_com_inertia_to_t66(inertia.mass, inertia.com, inertia.rotational.to_mat3())
+}
+
+/// Exudyn's `Inertia66toMassCOMinertia`: mass, centre of mass and rotational inertia about the
+/// centre of mass from a 6x6 spatial inertia in `[angular; linear]` order. A zero mass gives a
+/// zero centre of mass.
+#[must_use]
+#[doc(alias = "Inertia66toMassCOMinertia")]
+pub fn t66_to_mass_com_inertia(t66: &T66) -> (f64, DVec3, DMat3) {
+    let mass = t66[5][5];
+    let mc = DMat3::from_cols(
+        DVec3::new(t66[0][3], t66[1][3], t66[2][3]),
+        DVec3::new(t66[0][4], t66[1][4], t66[2][4]),
+        DVec3::new(t66[0][5], t66[1][5], t66[2][5]),
+    );
+    let top_left = DMat3::from_cols(
+        DVec3::new(t66[0][0], t66[1][0], t66[2][0]),
+        DVec3::new(t66[0][1], t66[1][1], t66[2][1]),
+        DVec3::new(t66[0][2], t66[1][2], t66[2][2]),
+    );
+    if mass == 0.0 {
+        return (0.0, DVec3::ZERO, top_left);
+    }
+    // Skew2Vec of m·[c]×.
+    let com = DVec3::new(mc.y_axis.z, mc.z_axis.x, mc.x_axis.y) / mass;
+    let inertia = top_left - mc * mc.transpose() * (1.0 / mass);
+    (mass, com, inertia)
+}
+
+/// Exudyn's `RotationTranslation2T66`: the 6x6 Plücker motion transform `[[A, 0], [[v]×·A, A]]`
+/// (`[angular; linear]`) of the frame with rotation `A` and translation `v`, i.e. of
+/// `Se3::new(A, v).act_motion`.
+#[must_use]
+#[doc(alias = "RotationTranslation2T66")]
+pub fn rotation_translation_to_t66(rotation: DMat3, translation: DVec3) -> T66 {
+    swap_halves(&Se3::new(rotation, translation).to_action_matrix())
+}
+
+/// Exudyn's `T66toRotationTranslation`: the rotation and translation of a 6x6 Plücker motion
+/// transform (`[angular; linear]`), inverse of [`rotation_translation_to_t66`].
+#[must_use]
+#[doc(alias = "T66toRotationTranslation")]
+pub fn t66_to_rotation_translation(t66: &T66) -> (DMat3, DVec3) {
+    let a = DMat3::from_cols(
+        DVec3::new(t66[0][0], t66[1][0], t66[2][0]),
+        DVec3::new(t66[0][1], t66[1][1], t66[2][1]),
+        DVec3::new(t66[0][2], t66[1][2], t66[2][2]),
+    );
+    let ta = DMat3::from_cols(
+        DVec3::new(t66[3][0], t66[4][0], t66[5][0]),
+        DVec3::new(t66[3][1], t66[4][1], t66[5][1]),
+        DVec3::new(t66[3][2], t66[4][2], t66[5][2]),
+    );
+    let t = ta * a.transpose();
+    (a, DVec3::new(t.y_axis.z, t.z_axis.x, t.x_axis.y))
+}
+
+/// The joint transform and motion subspace of one joint, as Exudyn's
+/// `JointTransformMotionSubspace66` returns them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointTransformMotionSubspace66 {
+    /// Featherstone's joint transform `XJ`: the Plücker transform (`[angular; linear]`) taking
+    /// motion vectors from the joint's parent-side frame to the child frame (the inverse of the
+    /// joint motion), as Exudyn's `RotationX2T66Inverse(q)` for `'Rx'`.
+    pub transform: T66,
+    /// The columns of the motion subspace `S` in the child frame (`[angular; linear]`), one per
+    /// velocity coordinate (Exudyn's `MS` for 1-DoF joints).
+    pub motion_subspace: Vec<[f64; 6]>,
+}
+
+/// Exudyn's `JointTransformMotionSubspace66`: the 6x6 joint transform and the motion subspace of
+/// a joint (any kind, not only Exudyn's `'Rx'`…`'Pz'`) at its configuration block `q`. Get the
+/// joint models from [`KinematicsData::joint_models`](kinetree_kinematics::KinematicsData) or
+/// build one, e.g. `JointModel::RevoluteX`.
+///
+/// # Errors
+/// [`DynamicsError::DimensionMismatch`] when `q` is not the joint's configuration size;
+/// [`DynamicsError::NonFinite`] for a NaN.
+///
+/// # Examples
+/// ```
+/// use kinetree_dynamics::exudyn::joint_transform_motion_subspace_66;
+/// use kinetree_dynamics::kinematics::JointModel;
+/// # fn main() -> Result<(), kinetree_dynamics::DynamicsError> {
+/// let j = joint_transform_motion_subspace_66(&JointModel::RevoluteZ, &[0.5])?;
+/// assert_eq!(j.motion_subspace, vec![[0.0, 0.0, 1.0, 0.0, 0.0, 0.0]]);
+/// // Rz(q)ᵀ in the angular block: row 0 is (cos q, sin q, 0).
+/// assert!((j.transform[0][1] - 0.5f64.sin()).abs() < 1e-15);
+/// # Ok(())
+/// # }
+/// ```
+#[doc(alias = "JointTransformMotionSubspace66")]
+pub fn joint_transform_motion_subspace_66(
+    joint: &JointModel,
+    q: &[f64],
+) -> Result<JointTransformMotionSubspace66, DynamicsError> {
+    let nq = match joint {
+        JointModel::Fixed => 0,
+        JointModel::Cylindrical(_) => 2,
+        JointModel::Spherical => 4,
+        JointModel::Planar { .. } => 3,
+        JointModel::Floating => 7,
+        _ => 1,
+    };
+    check_vector("q", q, nq)?;
+    Ok(JointTransformMotionSubspace66 {
+        transform: swap_halves(&joint.transform(q).inverse().to_action_matrix()),
+        motion_subspace: (0..joint.nv())
+            .map(|k| joint.subspace_column(k).to_featherstone())
+            .collect(),
+    })
+}
+
+/// Exudyn's `ComputeMassMatrixAndForceTerms`: the mass matrix `M(q)` and the force terms
+/// `f(q, q̇, f_ext)` of the equations of motion `M(q)·q̈ + f(q, q̇, f_ext) = τ`.
+///
+/// `f` collects Coriolis, centrifugal and gravity torques, minus the generalized forces of the
+/// external wrenches `fext` (plus the joints' damping and friction with
+/// [`JointTerms::FromModel`](crate::JointTerms::FromModel)). `M` is `nv x nv` row-major, stored
+/// in [`DynamicsData::mass_matrix`]; `f` (length `nv`) is stored in [`DynamicsData::nle`].
+/// Allocates nothing.
+///
+/// # Errors
+/// As [`rnea_with_external_forces`](crate::rnea_with_external_forces).
+#[doc(alias = "ComputeMassMatrixAndForceTerms")]
+pub fn compute_mass_matrix_and_force_terms<'d>(
+    model: &Model,
+    data: &'d mut DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    fext: &ExternalForces,
+) -> Result<(&'d [f64], &'d [f64]), DynamicsError> {
+    check_inputs(model, data, q, Some(v), None)?;
+    fext.check_model(model)?;
+    crate::crba::compute(model, data, q);
+    sweep::<true, false>(model, data, q, v, &[], Some(fext), Output::Nle);
+    Ok((&data.mass_matrix, &data.nle))
+}
+
+/// Exudyn's `ForwardDynamicsCRB`: forward dynamics through the mass matrix,
+/// `q̈ = M(q)⁻¹·(τ - f(q, q̇))`, with [`crba`](crate::crba), the tree-sparse factorization
+/// ([`factorize_mass_matrix`](crate::factorize_mass_matrix)) and
+/// [`nonlinear_effects`](crate::nonlinear_effects). Gives the same result as
+/// [`aba`](crate::aba) (which is faster for one call); the factorization stays in `data` for more
+/// solves. Stored in [`DynamicsData::ddq`] and returned.
+///
+/// # Errors
+/// As [`aba`](crate::aba).
+#[doc(alias = "ForwardDynamicsCRB")]
+pub fn forward_dynamics_crb<'d>(
+    model: &Model,
+    data: &'d mut DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+) -> Result<&'d [f64], DynamicsError> {
+    check_inputs(model, data, q, Some(v), None)?;
+    check_vector("tau", tau, model.nv())?;
+    crate::crba::compute(model, data, q);
+    crate::factor::factorize(model, data)?;
+    sweep::<true, false>(model, data, q, v, &[], None, Output::Nle);
+    for ((x, t), n) in data.ddq.iter_mut().zip(tau).zip(&data.nle) {
+        *x = t - n;
+    }
+    crate::factor::solve_in_place(&data.factor, &data.dof_parent, &mut data.ddq);
+    Ok(&data.ddq)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kinetree_kinematics::spatial::Symmetric3;
+
+    #[test]
+    fn t66_round_trips() {
+        let inertia = Inertia::new(
+            2.5,
+            DVec3::new(0.1, -0.2, 0.3),
+            Symmetric3::new(0.4, 0.01, -0.02, 0.5, 0.03, 0.6),
+        );
+        let t = inertia_to_t66(&inertia);
+        // Same matrix as kinetree's own [linear; angular] form, halves swapped.
+        let own = swap_halves(&inertia.to_matrix());
+        for i in 0..6 {
+            for j in 0..6 {
+                assert!((t[i][j] - own[i][j]).abs() < 1e-14);
+            }
+        }
+        let (m, c, i3) = t66_to_mass_com_inertia(&t);
+        assert!((m - 2.5).abs() < 1e-15);
+        assert!((c - inertia.com).length() < 1e-14);
+        assert!(i3.abs_diff_eq(inertia.rotational.to_mat3(), 1e-14));
+        let x = Se3::from_xyz_rpy([0.5, 1.0, -0.3], [0.2, 0.4, -0.8]);
+        let (r, p) =
+            t66_to_rotation_translation(&rotation_translation_to_t66(x.rotation, x.translation));
+        assert!(r.abs_diff_eq(x.rotation, 1e-15) && (p - x.translation).length() < 1e-14);
+    }
+
+    #[test]
+    fn joint_transform_is_featherstone_rotx() {
+        let q = 0.7;
+        let j = joint_transform_motion_subspace_66(&JointModel::RevoluteX, &[q]).expect("1 dof");
+        let (s, c) = q.sin_cos();
+        // Featherstone's rotx(q): E = [[1, 0, 0], [0, c, s], [0, -s, c]] on both diagonal blocks.
+        let e = [[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]];
+        for i in 0..3 {
+            for k in 0..3 {
+                assert!((j.transform[i][k] - e[i][k]).abs() < 1e-15);
+                assert!((j.transform[i + 3][k + 3] - e[i][k]).abs() < 1e-15);
+                assert!(j.transform[i][k + 3].abs() < 1e-15);
+                assert!(j.transform[i + 3][k].abs() < 1e-15);
+            }
+        }
+        assert_eq!(j.motion_subspace, vec![[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]]);
+        let p = joint_transform_motion_subspace_66(&JointModel::PrismaticY, &[0.3]).expect("1 dof");
+        // Featherstone's xlt(r) with r = (0, 0.3, 0): lower-left block -[r]×.
+        assert!((p.transform[3][2] + 0.3).abs() < 1e-15 && (p.transform[5][0] - 0.3).abs() < 1e-15);
+        assert!(matches!(
+            joint_transform_motion_subspace_66(&JointModel::Floating, &[0.0; 6]),
+            Err(DynamicsError::DimensionMismatch { .. })
+        ));
+    }
+}

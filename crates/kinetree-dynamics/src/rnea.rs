@@ -1,0 +1,237 @@
+//! Inverse dynamics: the recursive Newton–Euler algorithm and the torques derived from it.
+
+use crate::data::{DynamicsData, sign};
+use crate::error::{DynamicsError, check_vector};
+use crate::external::ExternalForces;
+use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::glam::DVec3;
+use kinetree_kinematics::spatial::{Force, Motion};
+
+/// Which output buffer a sweep writes.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Output {
+    Tau,
+    Nle,
+    Gravity,
+}
+
+/// Inverse dynamics: the joint torques `τ = M(q)·q̈ + C(q, q̇)·q̇ + g(q)` that produce joint
+/// accelerations `a` at configuration `q` and velocity `v`, under gravity
+/// ([`Model::gravity`]).
+///
+/// `q` has length `model.nq()`, `v` and `a` length `model.nv()`. The result (length `nv`) is
+/// stored in [`DynamicsData::tau`] and returned. With [`JointTerms::FromModel`] the joints'
+/// armature, damping and friction are included (`+ r·a + d·v + μ·sign(v)`). Floating-base
+/// entries are the wrench `[force; torque]` on the base in the base frame.
+///
+/// Recursive Newton–Euler in body-local coordinates (Featherstone's RNEA, Pinocchio's `rnea`):
+/// O(n), allocates nothing.
+///
+/// # Errors
+/// [`DynamicsError::DimensionMismatch`] or [`DynamicsError::NonFinite`] for a bad `q`, `v` or
+/// `a`; [`DynamicsError::DataMismatch`] when `data` belongs to another model.
+///
+/// # Examples
+/// ```
+/// use kinetree_dynamics::{rnea, DynamicsData};
+/// use kinetree_dynamics::model::{Model, RootJoint};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// // A 1 kg point mass on a massless 0.5 m rod, hinged about y; gravity along -z.
+/// let urdf = r#"<robot name="pendulum"><link name="base"/>
+///   <link name="bob"><inertial><origin xyz="0.5 0 0"/><mass value="1"/>
+///     <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+///   <joint name="hinge" type="continuous"><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/></joint>
+/// </robot>"#;
+/// let model = Model::from_urdf_str(urdf, RootJoint::Fixed)?;
+/// let mut data = DynamicsData::new(&model);
+/// // Gravity pulls the bob (at +x) down -z: a torque of +m·g·l = 4.905 N·m about +y. Holding
+/// // the rod horizontal takes the opposite torque.
+/// let tau = rnea(&model, &mut data, &[0.0], &[0.0], &[0.0])?;
+/// assert!((tau[0] + 9.81 * 0.5).abs() < 1e-12);
+/// // Accelerating it at 2 rad/s² about +y takes m·l²·a = 0.5 N·m more.
+/// let tau = rnea(&model, &mut data, &[0.0], &[0.0], &[2.0])?;
+/// assert!((tau[0] - (-4.905 + 0.5)).abs() < 1e-12);
+/// # Ok(())
+/// # }
+/// ```
+///
+/// [`JointTerms::FromModel`]: crate::JointTerms::FromModel
+#[doc(alias = "inverse_dynamics")]
+#[doc(alias = "rne")]
+pub fn rnea<'d>(
+    model: &Model,
+    data: &'d mut DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> Result<&'d [f64], DynamicsError> {
+    check_inputs(model, data, q, Some(v), Some(a))?;
+    sweep::<true, true>(model, data, q, v, a, None, Output::Tau);
+    Ok(&data.tau)
+}
+
+/// As [`rnea`], with wrenches applied by the environment (see [`ExternalForces`]): the torques
+/// that produce `a` while the environment pushes with `fext` (`τ = rnea(q, v, a) - Σ Jᵀ·f`).
+///
+/// # Errors
+/// As [`rnea`]; [`DynamicsError::DataMismatch`] when `fext` belongs to another model.
+pub fn rnea_with_external_forces<'d>(
+    model: &Model,
+    data: &'d mut DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    fext: &ExternalForces,
+) -> Result<&'d [f64], DynamicsError> {
+    check_inputs(model, data, q, Some(v), Some(a))?;
+    fext.check_model(model)?;
+    sweep::<true, true>(model, data, q, v, a, Some(fext), Output::Tau);
+    Ok(&data.tau)
+}
+
+/// The nonlinear effects `C(q, q̇)·q̇ + g(q)` (Coriolis, centrifugal and gravity torques; plus
+/// `d·v + μ·sign(v)` with [`JointTerms::FromModel`]): [`rnea`] with zero acceleration, so that
+/// `crba(q)·a + nonlinear_effects(q, v) = rnea(q, v, a)`.
+///
+/// Stored in [`DynamicsData::nle`] and returned (length `model.nv()`). Allocates nothing.
+///
+/// # Errors
+/// As [`rnea`].
+///
+/// [`JointTerms::FromModel`]: crate::JointTerms::FromModel
+#[doc(alias = "nle")]
+#[doc(alias = "bias_forces")]
+#[doc(alias = "coriolis")]
+pub fn nonlinear_effects<'d>(
+    model: &Model,
+    data: &'d mut DynamicsData,
+    q: &[f64],
+    v: &[f64],
+) -> Result<&'d [f64], DynamicsError> {
+    check_inputs(model, data, q, Some(v), None)?;
+    sweep::<true, false>(model, data, q, v, &[], None, Output::Nle);
+    Ok(&data.nle)
+}
+
+/// The generalized gravity `g(q)`: the torques that hold the robot still at `q` against gravity
+/// ([`rnea`] with zero velocity and acceleration).
+///
+/// Stored in [`DynamicsData::gravity_torque`] and returned (length `model.nv()`). Allocates
+/// nothing.
+///
+/// # Errors
+/// As [`rnea`], for `q`.
+#[doc(alias = "gravity_torque")]
+#[doc(alias = "compute_generalized_gravity")]
+pub fn generalized_gravity<'d>(
+    model: &Model,
+    data: &'d mut DynamicsData,
+    q: &[f64],
+) -> Result<&'d [f64], DynamicsError> {
+    check_inputs(model, data, q, None, None)?;
+    sweep::<false, false>(model, data, q, &[], &[], None, Output::Gravity);
+    Ok(&data.gravity_torque)
+}
+
+/// Entry checks shared by the dynamics algorithms.
+pub(crate) fn check_inputs(
+    model: &Model,
+    data: &DynamicsData,
+    q: &[f64],
+    v: Option<&[f64]>,
+    a: Option<&[f64]>,
+) -> Result<(), DynamicsError> {
+    data.check_model(model)?;
+    check_vector("q", q, model.nq())?;
+    if let Some(v) = v {
+        check_vector("v", v, model.nv())?;
+    }
+    if let Some(a) = a {
+        check_vector("a", a, model.nv())?;
+    }
+    Ok(())
+}
+
+/// The RNEA sweeps. `VEL`: `v` is used (else zero); `ACC`: `a` is used (else zero).
+pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
+    model: &Model,
+    data: &mut DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    fext: Option<&ExternalForces>,
+    output: Output,
+) {
+    let bodies = model.bodies();
+    let joint_models = data.kinematics.joint_models();
+    let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
+    let world = fext.is_some_and(ExternalForces::needs_world);
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        let jm = &joint_models[i];
+        let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        data.parent_from_body[i] = x;
+        if world {
+            data.world_from_body[i] = if b.parent == 0 {
+                x
+            } else {
+                data.world_from_body[b.parent] * x
+            };
+        }
+        let parent_a = if b.parent == 0 {
+            a0
+        } else {
+            data.acceleration[b.parent]
+        };
+        let mut ai = x.act_inv_motion(&parent_a);
+        if ACC {
+            ai += jm.motion(&a[b.idx_v..b.idx_v + b.nv]);
+        }
+        let inertia = &b.inertia;
+        let mut f = Force::ZERO;
+        if VEL {
+            let vj = jm.motion(&v[b.idx_v..b.idx_v + b.nv]);
+            let vi = if b.parent == 0 {
+                vj
+            } else {
+                let vi = x.act_inv_motion(&data.velocity[b.parent]) + vj;
+                ai += vi.cross_motion(&vj);
+                vi
+            };
+            data.velocity[i] = vi;
+            f = vi.cross_force(&inertia.mul_motion(&vi));
+        }
+        data.acceleration[i] = ai;
+        data.force[i] = f + inertia.mul_motion(&ai);
+    }
+    if let Some(fext) = fext {
+        let force = &mut data.force;
+        fext.for_each_local(&data.world_from_body, |body, f| force[body] -= f);
+    }
+    let out = match output {
+        Output::Tau => &mut data.tau,
+        Output::Nle => &mut data.nle,
+        Output::Gravity => &mut data.gravity_torque,
+    };
+    for i in (1..bodies.len()).rev() {
+        let b = &bodies[i];
+        let fi = data.force[i];
+        joint_models[i].project_force(&fi, &mut out[b.idx_v..b.idx_v + b.nv]);
+        if b.parent != 0 {
+            let fp = data.parent_from_body[i].act_force(&fi);
+            data.force[b.parent] += fp;
+        }
+    }
+    if data.has_joint_terms {
+        for k in 0..out.len() {
+            let mut t = 0.0;
+            if ACC {
+                t += data.armature[k] * a[k];
+            }
+            if VEL {
+                t += data.damping[k] * v[k] + data.friction[k] * sign(v[k]);
+            }
+            out[k] += t;
+        }
+    }
+}

@@ -1,0 +1,102 @@
+//! The hot paths allocate nothing once the data exists: a counting global allocator for this
+//! test binary counts allocations made by the current thread.
+
+#![allow(
+    unsafe_code,
+    reason = "a counting global allocator has to implement GlobalAlloc"
+)]
+
+use crate::common::{all_models, random_state, rng};
+use kinetree_dynamics::spatial::Force;
+use kinetree_dynamics::spatial::glam::DVec3;
+use kinetree_dynamics::{
+    DynamicsData, ExternalForces, FrameId, Integrator, JointTerms, ReferenceFrame, aba,
+    aba_with_external_forces, center_of_mass, center_of_mass_jacobian, center_of_mass_velocity,
+    centroidal_momentum, crba, exudyn, factorize_mass_matrix, generalized_gravity, kinetic_energy,
+    mass_matrix_inverse, mechanical_energy, nonlinear_effects, potential_energy, rnea,
+    rnea_with_external_forces, solve_mass_matrix, step, step_with_external_forces,
+};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+// SAFETY: delegates every call unchanged to the system allocator; it only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations_during(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.with(Cell::get);
+    f();
+    ALLOCATIONS.with(Cell::get) - before
+}
+
+#[test]
+fn hot_paths_do_not_allocate() {
+    for (name, model) in all_models() {
+        let (q, v, a) = random_state(&model, &mut rng(7));
+        let mut data = DynamicsData::new(&model);
+        let mut fext = ExternalForces::new(&model);
+        let last = FrameId::Link(model.links().len() - 1);
+        let mut rhs = vec![0.5; 3 * model.nv()];
+        let (mut qs, mut vs) = (q.clone(), v.clone());
+        let tau = vec![0.1; model.nv()];
+        let count = allocations_during(|| {
+            for _ in 0..3 {
+                fext.clear();
+                let f = Force::new(DVec3::X, DVec3::Y);
+                for reference in [
+                    ReferenceFrame::Local,
+                    ReferenceFrame::World,
+                    ReferenceFrame::LocalWorldAligned,
+                ] {
+                    fext.add(&model, last, reference, f).unwrap();
+                }
+                rnea(&model, &mut data, &q, &v, &a).unwrap();
+                rnea_with_external_forces(&model, &mut data, &q, &v, &a, &fext).unwrap();
+                nonlinear_effects(&model, &mut data, &q, &v).unwrap();
+                generalized_gravity(&model, &mut data, &q).unwrap();
+                crba(&model, &mut data, &q).unwrap();
+                factorize_mass_matrix(&model, &mut data, &q).unwrap();
+                solve_mass_matrix(&model, &mut data, &mut rhs).unwrap();
+                mass_matrix_inverse(&model, &mut data, &q).unwrap();
+                aba(&model, &mut data, &q, &v, &tau).unwrap();
+                aba_with_external_forces(&model, &mut data, &q, &v, &tau, &fext).unwrap();
+                exudyn::forward_dynamics_crb(&model, &mut data, &q, &v, &tau).unwrap();
+                exudyn::compute_mass_matrix_and_force_terms(&model, &mut data, &q, &v, &fext)
+                    .unwrap();
+                kinetic_energy(&model, &mut data, &q, &v).unwrap();
+                potential_energy(&model, &mut data, &q).unwrap();
+                mechanical_energy(&model, &mut data, &q, &v).unwrap();
+                center_of_mass(&model, &mut data, &q).unwrap();
+                center_of_mass_velocity(&model, &mut data, &q, &v).unwrap();
+                center_of_mass_jacobian(&model, &mut data, &q).unwrap();
+                centroidal_momentum(&model, &mut data, &q, &v).unwrap();
+                for integrator in [Integrator::SemiImplicitEuler, Integrator::RungeKutta4] {
+                    step(&model, &mut data, integrator, &mut qs, &mut vs, &tau, 1e-4).unwrap();
+                    step_with_external_forces(
+                        &model, &mut data, integrator, &mut qs, &mut vs, &tau, 1e-4, &fext,
+                    )
+                    .unwrap();
+                }
+                data.set_joint_terms(&model, JointTerms::Ignored).unwrap();
+                data.set_joint_terms(&model, JointTerms::FromModel).unwrap();
+            }
+        });
+        assert_eq!(count, 0, "{name}: the dynamics hot paths allocated");
+    }
+}

@@ -1,0 +1,271 @@
+//! Shared helpers: the reference robots, their named states, random states and a model with one
+//! joint of every kind.
+
+use kinetree_dynamics::kinematics::configuration::{
+    neutral_configuration, random_configuration, set_joint_q, set_joint_v,
+};
+use kinetree_dynamics::model::spatial::glam::DVec3;
+use kinetree_dynamics::model::spatial::{Se3, Symmetric3};
+use kinetree_dynamics::model::{
+    JointDynamics, JointKind, JointSpec, Link, Model, ModelBuilder, RootJoint,
+};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+use serde_json::Value;
+use std::path::PathBuf;
+
+pub(crate) fn reference_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/reference")
+}
+
+/// Every reference robot: name, parsed JSON, loaded model.
+pub(crate) fn robots() -> Vec<(String, Value, Model)> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(reference_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "json") {
+            let v: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+            let root = if v["root_joint"] == "fixed" {
+                RootJoint::Fixed
+            } else {
+                RootJoint::Floating
+            };
+            let model =
+                Model::from_urdf_file(reference_dir().join(v["urdf"].as_str().unwrap()), root)
+                    .unwrap();
+            out.push((
+                path.file_stem().unwrap().to_string_lossy().into_owned(),
+                v,
+                model,
+            ));
+        }
+    }
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    assert_eq!(out.len(), 7);
+    out
+}
+
+/// The reference robots' models plus [`every_kind`], for the identity tests.
+pub(crate) fn all_models() -> Vec<(String, Model)> {
+    let mut out: Vec<(String, Model)> = robots().into_iter().map(|(n, _, m)| (n, m)).collect();
+    out.push(("every_kind".into(), every_kind(RootJoint::Fixed)));
+    out.push((
+        "every_kind_floating".into(),
+        every_kind(RootJoint::Floating),
+    ));
+    out
+}
+
+pub(crate) fn values(v: &Value) -> Vec<f64> {
+    match v {
+        Value::Array(a) => a.iter().map(|x| x.as_f64().unwrap()).collect(),
+        x => vec![x.as_f64().unwrap()],
+    }
+}
+
+/// Our `q` for a sample's `state.q` (keyed by joint name).
+pub(crate) fn q_of(model: &Model, sample: &Value) -> Vec<f64> {
+    let mut q = neutral_configuration(model);
+    for (name, value) in sample["state"]["q"].as_object().unwrap() {
+        set_joint_q(model, &mut q, name, &values(value)).unwrap();
+    }
+    q
+}
+
+/// Our velocity-space vector for a sample's `state.<key>`.
+pub(crate) fn v_of(model: &Model, sample: &Value, key: &str) -> Vec<f64> {
+    let mut v = vec![0.0; model.nv()];
+    for (name, value) in sample["state"][key].as_object().unwrap() {
+        set_joint_v(model, &mut v, name, &values(value)).unwrap();
+    }
+    v
+}
+
+/// Our index for each index of Pinocchio's v order, per the reference joint table.
+pub(crate) fn index_map(model: &Model, reference: &Value) -> Vec<usize> {
+    let mut map = vec![usize::MAX; model.nv()];
+    for j in reference["joints"].as_array().unwrap() {
+        let ours = model.joint_v_range(model.joint_index(j["name"].as_str().unwrap()).unwrap());
+        let theirs = j["idx_v"].as_u64().unwrap() as usize;
+        for (k, o) in ours.enumerate() {
+            map[theirs + k] = o;
+        }
+    }
+    assert!(map.iter().all(|&m| m < model.nv()));
+    map
+}
+
+/// A random state: in-limit configuration, velocities and accelerations in [-1, 1].
+pub(crate) fn random_state(model: &Model, rng: &mut SmallRng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut q = vec![0.0; model.nq()];
+    random_configuration(model, rng, &mut q).unwrap();
+    let mut uniform = || -> Vec<f64> {
+        (0..model.nv())
+            .map(|_| rng.random_range(-1.0..1.0))
+            .collect()
+    };
+    let v = uniform();
+    let a = uniform();
+    (q, v, a)
+}
+
+pub(crate) fn rng(seed: u64) -> SmallRng {
+    SmallRng::seed_from_u64(seed)
+}
+
+fn link(name: &str, mass: f64, com: [f64; 3], i: [f64; 3]) -> Link {
+    Link::new(name).with_mass(
+        mass,
+        DVec3::from_array(com),
+        Symmetric3::new(i[0], 0.01 * i[0], -0.02 * i[1], i[1], 0.015 * i[2], i[2]),
+    )
+}
+
+/// A tree with one joint of every kind (off-axis axes, a fixed joint, two branches) and joint
+/// damping, friction and armature on some joints.
+pub(crate) fn every_kind(root: RootJoint) -> Model {
+    every_kind_with_gravity(root, DVec3::new(0.0, 0.0, -9.81))
+}
+
+/// [`every_kind`] under the given gravity.
+pub(crate) fn every_kind_with_gravity(root: RootJoint, gravity: DVec3) -> Model {
+    let mut b = ModelBuilder::new("every_kind");
+    b.root_joint(root);
+    b.gravity(gravity);
+    b.add_link(link("base", 2.0, [0.05, -0.02, 0.1], [0.05, 0.06, 0.07]));
+    let place = |x: [f64; 3], r: [f64; 3]| Se3::from_xyz_rpy(x, r);
+    let parts: [(&str, JointKind, &str, &str, Se3, DVec3, JointDynamics); 9] = [
+        (
+            "revolute",
+            JointKind::Revolute,
+            "base",
+            "l1",
+            place([0.1, 0.0, 0.2], [0.1, 0.2, 0.3]),
+            DVec3::new(0.3, -0.5, 0.8),
+            JointDynamics {
+                damping: 0.3,
+                friction: 0.2,
+                armature: 0.05,
+            },
+        ),
+        (
+            "prismatic",
+            JointKind::Prismatic,
+            "l1",
+            "l2",
+            place([0.0, 0.3, 0.0], [0.0, 0.0, 0.5]),
+            DVec3::Y,
+            JointDynamics {
+                damping: 1.0,
+                friction: 0.0,
+                armature: 0.1,
+            },
+        ),
+        (
+            "spherical",
+            JointKind::Spherical,
+            "l2",
+            "l3",
+            place([0.2, 0.0, 0.1], [0.3, -0.2, 0.1]),
+            DVec3::Z,
+            JointDynamics::default(),
+        ),
+        (
+            "weld",
+            JointKind::Fixed,
+            "l3",
+            "l4",
+            place([0.0, 0.1, 0.25], [0.5, 0.0, 0.0]),
+            DVec3::Z,
+            JointDynamics::default(),
+        ),
+        (
+            "cylindrical",
+            JointKind::Cylindrical,
+            "l4",
+            "l5",
+            place([0.1, 0.1, 0.0], [0.0, 0.4, 0.0]),
+            DVec3::new(1.0, 1.0, 0.0),
+            JointDynamics {
+                damping: 0.1,
+                friction: 0.05,
+                armature: 0.0,
+            },
+        ),
+        (
+            "planar",
+            JointKind::Planar,
+            "l5",
+            "l6",
+            place([0.0, 0.0, 0.3], [0.0, 0.0, 0.0]),
+            DVec3::new(0.0, 0.6, 0.8),
+            JointDynamics::default(),
+        ),
+        (
+            "continuous",
+            JointKind::Continuous,
+            "base",
+            "m1",
+            place([-0.2, 0.0, 0.1], [0.0, 0.0, 1.0]),
+            DVec3::X,
+            JointDynamics {
+                damping: 0.0,
+                friction: 0.0,
+                armature: 0.2,
+            },
+        ),
+        (
+            "prismatic_z",
+            JointKind::Prismatic,
+            "m1",
+            "m2",
+            place([0.0, 0.0, -0.2], [0.0, 0.0, 0.0]),
+            DVec3::Z,
+            JointDynamics::default(),
+        ),
+        (
+            "revolute_y",
+            JointKind::Revolute,
+            "m1",
+            "m3",
+            place([0.0, 0.2, 0.0], [0.2, 0.0, 0.0]),
+            DVec3::Y,
+            JointDynamics::default(),
+        ),
+    ];
+    for (k, (name, kind, parent, child, placement, axis, dynamics)) in parts.into_iter().enumerate()
+    {
+        let s = 1.0 + 0.1 * k as f64;
+        b.add_link(link(
+            child,
+            0.5 * s,
+            [0.02 * s, 0.05, -0.03 * s],
+            [0.004 * s, 0.005, 0.006 * s],
+        ));
+        b.add_joint(
+            JointSpec::new(name, kind, parent, child)
+                .with_placement(placement)
+                .with_axis(axis)
+                .with_dynamics(dynamics),
+        );
+    }
+    b.build().unwrap()
+}
+
+/// `max |x - y| / max(max |y|, floor)`.
+pub(crate) fn relative_error(x: &[f64], y: &[f64], floor: f64) -> f64 {
+    assert_eq!(x.len(), y.len());
+    let scale = y.iter().fold(floor, |m, v| m.max(v.abs()));
+    x.iter()
+        .zip(y)
+        .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
+        / scale
+}
+
+/// Row-major product of an `n x n` matrix with a vector.
+pub(crate) fn mat_vec(m: &[f64], x: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    (0..n)
+        .map(|i| (0..n).map(|j| m[i * n + j] * x[j]).sum())
+        .collect()
+}

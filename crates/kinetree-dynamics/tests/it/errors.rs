@@ -1,0 +1,242 @@
+//! Bad input gives typed errors, never panics or NaN.
+
+use crate::common::{every_kind, q_of, robots, v_of};
+use kinetree_dynamics::model::spatial::Symmetric3;
+use kinetree_dynamics::model::spatial::glam::DVec3;
+use kinetree_dynamics::model::{JointKind, JointSpec, Link, Model, ModelBuilder, RootJoint};
+use kinetree_dynamics::spatial::Force;
+use kinetree_dynamics::{
+    DynamicsData, DynamicsError, ExternalForces, FrameId, Integrator, ReferenceFrame, aba,
+    center_of_mass, compute_all_terms, crba, factorize_mass_matrix, generalized_gravity,
+    mass_matrix_inverse, nonlinear_effects, rnea, rnea_with_external_forces, solve_mass_matrix,
+    step,
+};
+
+/// base -> heavy (revolute) -> light (massless revolute leaf), and heavy -> a -> b, a massless
+/// two-joint subtree.
+fn with_massless_subtrees() -> Model {
+    let mut b = ModelBuilder::new("massless");
+    b.add_link(Link::new("base"));
+    let inertia = Symmetric3::new(0.01, 0.0, 0.0, 0.01, 0.0, 0.01);
+    b.add_part(
+        Link::new("heavy").with_mass(1.0, DVec3::new(0.2, 0.0, 0.0), inertia),
+        JointSpec::new("shoulder", JointKind::Revolute, "base", "heavy").with_axis(DVec3::Y),
+    );
+    b.add_part(
+        Link::new("light"),
+        JointSpec::new("finger", JointKind::Revolute, "heavy", "light").with_axis(DVec3::Z),
+    );
+    b.add_part(
+        Link::new("a"),
+        JointSpec::new("knuckle_a", JointKind::Prismatic, "heavy", "a").with_axis(DVec3::X),
+    );
+    b.add_part(
+        Link::new("b"),
+        JointSpec::new("knuckle_b", JointKind::Spherical, "a", "b"),
+    );
+    b.build().unwrap()
+}
+
+fn singular_joints(e: DynamicsError) -> Vec<String> {
+    match e {
+        DynamicsError::SingularMassMatrix { joints } => joints,
+        other => panic!("expected a singular mass matrix, got {other:?}"),
+    }
+}
+
+#[test]
+fn massless_subtrees_are_named() {
+    let model = with_massless_subtrees();
+    let mut data = DynamicsData::new(&model);
+    let q = vec![0.1, 0.2, 0.3, 0.0, 0.0, 0.0, 1.0];
+    let v = vec![0.5; model.nv()];
+    let tau = vec![1.0; model.nv()];
+    let expected = ["finger", "knuckle_a", "knuckle_b"];
+    let e = aba(&model, &mut data, &q, &v, &tau).unwrap_err();
+    assert_eq!(singular_joints(e), expected);
+    let e = factorize_mass_matrix(&model, &mut data, &q).unwrap_err();
+    let message = e.to_string();
+    assert_eq!(singular_joints(e), expected);
+    assert!(
+        message.contains("finger, knuckle_a, knuckle_b"),
+        "{message}"
+    );
+    let e = mass_matrix_inverse(&model, &mut data, &q).unwrap_err();
+    assert_eq!(singular_joints(e), expected);
+    let mut b = vec![1.0; model.nv()];
+    assert!(matches!(
+        solve_mass_matrix(&model, &mut data, &mut b),
+        Err(DynamicsError::NotFactorized)
+    ));
+    let (mut qs, mut vs) = (q.clone(), v.clone());
+    let e = step(
+        &model,
+        &mut data,
+        Integrator::RungeKutta4,
+        &mut qs,
+        &mut vs,
+        &tau,
+        1e-3,
+    )
+    .unwrap_err();
+    assert_eq!(singular_joints(e), expected);
+    // Inverse dynamics and the mass matrix are still fine.
+    assert!(
+        rnea(&model, &mut data, &q, &v, &v)
+            .unwrap()
+            .iter()
+            .all(|x| x.is_finite())
+    );
+    let m = crba(&model, &mut data, &q).unwrap();
+    assert!(m.iter().all(|x| x.is_finite()));
+    // All terms: aba is reported as undefined, the rest is computed.
+    let all = compute_all_terms(&model, &mut data, &q, &v, &v, &tau).unwrap();
+    assert!(matches!(
+        all.aba,
+        Err(DynamicsError::SingularMassMatrix { .. })
+    ));
+    assert!(all.com.is_ok() && all.kinetic_energy > 0.0);
+}
+
+#[test]
+fn bad_inputs_are_errors() {
+    let model = every_kind(RootJoint::Floating);
+    let mut data = DynamicsData::new(&model);
+    let (nq, nv) = (model.nq(), model.nv());
+    let q = kinetree_dynamics::kinematics::configuration::neutral_configuration(&model);
+    let v = vec![0.0; nv];
+    let short = vec![0.0; nv - 1];
+    assert!(matches!(
+        rnea(&model, &mut data, &q[..nq - 1], &v, &v),
+        Err(DynamicsError::DimensionMismatch { what: "q", .. })
+    ));
+    assert!(matches!(
+        rnea(&model, &mut data, &q, &short, &v),
+        Err(DynamicsError::DimensionMismatch { what: "v", .. })
+    ));
+    assert!(matches!(
+        rnea(&model, &mut data, &q, &v, &short),
+        Err(DynamicsError::DimensionMismatch { what: "a", .. })
+    ));
+    assert!(matches!(
+        aba(&model, &mut data, &q, &v, &short),
+        Err(DynamicsError::DimensionMismatch { what: "tau", .. })
+    ));
+    let mut nan = v.clone();
+    nan[3] = f64::NAN;
+    assert!(matches!(
+        nonlinear_effects(&model, &mut data, &q, &nan),
+        Err(DynamicsError::NonFinite {
+            what: "v",
+            index: 3
+        })
+    ));
+    let mut qnan = q.clone();
+    qnan[0] = f64::INFINITY;
+    assert!(matches!(
+        generalized_gravity(&model, &mut data, &qnan),
+        Err(DynamicsError::NonFinite {
+            what: "q",
+            index: 0
+        })
+    ));
+    assert!(matches!(
+        aba(&model, &mut data, &q, &v, &nan),
+        Err(DynamicsError::NonFinite {
+            what: "tau",
+            index: 3
+        })
+    ));
+    // Data and external forces of another model.
+    let other = with_massless_subtrees();
+    let mut other_data = DynamicsData::new(&other);
+    assert!(matches!(
+        crba(&model, &mut other_data, &q),
+        Err(DynamicsError::DataMismatch { .. })
+    ));
+    let other_fext = ExternalForces::new(&other);
+    assert!(matches!(
+        rnea_with_external_forces(&model, &mut data, &q, &v, &v, &other_fext),
+        Err(DynamicsError::DataMismatch { .. })
+    ));
+    // Unknown links, bad indices, NaN wrenches.
+    let mut fext = ExternalForces::new(&model);
+    let f = Force::new(DVec3::X, DVec3::ZERO);
+    assert!(matches!(
+        fext.add_by_name(&model, "no_such_link", ReferenceFrame::World, f),
+        Err(DynamicsError::UnknownLink { name }) if name == "no_such_link"
+    ));
+    assert!(matches!(
+        fext.add(&model, FrameId::Link(999), ReferenceFrame::Local, f),
+        Err(DynamicsError::IndexOutOfRange {
+            what: "link",
+            index: 999,
+            ..
+        })
+    ));
+    assert!(matches!(
+        fext.add(&model, FrameId::Frame(0), ReferenceFrame::Local, f),
+        Err(DynamicsError::IndexOutOfRange { what: "frame", .. })
+    ));
+    assert!(matches!(
+        fext.add(
+            &model,
+            FrameId::Link(0),
+            ReferenceFrame::Local,
+            Force::new(DVec3::NAN, DVec3::ZERO)
+        ),
+        Err(DynamicsError::NonFinite { .. })
+    ));
+    assert!(fext.is_empty());
+    // Several right-hand sides must be whole vectors.
+    factorize_mass_matrix(&model, &mut data, &q).unwrap();
+    let mut rhs = vec![1.0; nv + 1];
+    assert!(matches!(
+        solve_mass_matrix(&model, &mut data, &mut rhs),
+        Err(DynamicsError::DimensionMismatch { what: "rhs", .. })
+    ));
+}
+
+#[test]
+fn massless_model_has_no_com() {
+    let mut b = ModelBuilder::new("ghost");
+    b.add_link(Link::new("base"));
+    b.add_part(
+        Link::new("tip"),
+        JointSpec::new("j", JointKind::Continuous, "base", "tip"),
+    );
+    let model = b.build().unwrap();
+    let mut data = DynamicsData::new(&model);
+    assert!(matches!(
+        center_of_mass(&model, &mut data, &[0.0]),
+        Err(DynamicsError::ZeroMass)
+    ));
+}
+
+/// Reference robots load with their URDF `<dynamics>`: the default data uses them (so results
+/// differ from Pinocchio's), the `Ignored` data does not.
+#[test]
+fn joint_terms_come_from_the_urdf() {
+    for (robot, reference, model) in robots() {
+        let has_terms = model
+            .joints()
+            .iter()
+            .any(|j| j.dynamics.damping != 0.0 || j.dynamics.friction != 0.0);
+        let sample = &reference["samples"][0];
+        let (q, v, a) = (
+            q_of(&model, sample),
+            v_of(&model, sample, "v"),
+            v_of(&model, sample, "a"),
+        );
+        let mut with = DynamicsData::new(&model);
+        let mut without =
+            DynamicsData::with_joint_terms(&model, kinetree_dynamics::JointTerms::Ignored);
+        let t1 = rnea(&model, &mut with, &q, &v, &a).unwrap().to_vec();
+        let t2 = rnea(&model, &mut without, &q, &v, &a).unwrap().to_vec();
+        assert_eq!(t1 != t2, has_terms, "{robot}");
+        with.set_joint_terms(&model, kinetree_dynamics::JointTerms::Ignored)
+            .unwrap();
+        let t3 = rnea(&model, &mut with, &q, &v, &a).unwrap();
+        assert_eq!(t3, &t2[..], "{robot}");
+    }
+}

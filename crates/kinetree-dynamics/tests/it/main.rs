@@ -1,0 +1,8 @@
+//! Integration tests of the dynamics layer.
+
+mod allocation;
+mod common;
+mod errors;
+mod identities;
+mod reference;
+mod simulation;
