@@ -56,6 +56,7 @@ mod forward;
 mod group;
 mod jacobian;
 mod joint_model;
+pub mod reachable;
 
 pub use chain::{Chain, ChainStats};
 pub use data::{FrameId, KinematicsData};

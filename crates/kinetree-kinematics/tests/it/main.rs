@@ -3,4 +3,5 @@
 mod allocation;
 mod common;
 mod finite_differences;
+mod reachable;
 mod reference;
