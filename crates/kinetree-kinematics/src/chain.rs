@@ -524,6 +524,17 @@ impl Chain {
                 name: name.to_string(),
             })?;
         match self.model.joint_body(j) {
+            Some(b) if self.model.bodies()[b].mimic.is_some() => {
+                Err(KinematicsError::InvalidJointValue {
+                    joint: name.to_string(),
+                    reason: format!(
+                        "it follows '{}' (coupled mimic) and has no coordinate of its own",
+                        self.model
+                            .joint(self.model.bodies()[b].mimic.map_or(j, |m| m.leader))
+                            .name
+                    ),
+                })
+            }
             Some(b) => Ok((j, b)),
             None => Err(KinematicsError::WrongJointKind {
                 joint: name.to_string(),
@@ -583,6 +594,17 @@ impl Chain {
             let end = self.model.bodies()[i].subtree_end;
             self.stale[i..end].fill(true);
         }
+        // Coupled mimic joints move with their leader.
+        let leader = self.model.bodies()[i].joint;
+        for f in 1..self.model.nbodies() {
+            let b = &self.model.bodies()[f];
+            if b.mimic.is_some_and(|m| Some(m.leader) == leader) {
+                self.joint_stale[f] = true;
+                if !self.stale[f] {
+                    self.stale[f..b.subtree_end].fill(true);
+                }
+            }
+        }
     }
 
     /// Makes body `i` up to date, refreshing its stale ancestors first (top down).
@@ -604,9 +626,8 @@ impl Chain {
         let body = &self.model.bodies()[i];
         debug_assert!(!self.stale[body.parent] || body.parent == 0);
         if self.joint_stale[i] {
-            let q = &self.q[body.idx_q..body.idx_q + body.nq];
             self.data.parent_from_body[i] =
-                self.data.joint_models()[i].placed_transform(&body.placement, q);
+                self.data.joint_models()[i].body_transform(body, &self.q);
             self.joint_stale[i] = false;
             self.stats.joint_updates += 1;
         }

@@ -94,7 +94,7 @@ pub fn random_configuration<R: Rng + ?Sized>(
 ) -> Result<(), KinematicsError> {
     check_len("q", q, model.nq())?;
     let uniform = |(lo, hi): (f64, f64), rng: &mut R| lo + (hi - lo) * rng.random::<f64>();
-    for b in model.bodies().iter().skip(1) {
+    for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {
         let lim = &model.joint(b.joint.unwrap_or(0)).limits;
         let qi = &mut q[b.idx_q..b.idx_q + b.nq];
         match b.kind {
@@ -201,7 +201,7 @@ pub fn integrate(
     check_vector("q", q, model.nq())?;
     check_vector("v", v, model.nv())?;
     check_len("q_out", q_out, model.nq())?;
-    for b in model.bodies().iter().skip(1) {
+    for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {
         integrate_joint(
             b.kind,
             &q[b.idx_q..b.idx_q + b.nq],
@@ -262,7 +262,7 @@ pub fn difference(
     check_vector("q0", q0, model.nq())?;
     check_vector("q1", q1, model.nq())?;
     check_len("v_out", v_out, model.nv())?;
-    for b in model.bodies().iter().skip(1) {
+    for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {
         difference_joint(
             b.kind,
             &q0[b.idx_q..b.idx_q + b.nq],
@@ -298,7 +298,7 @@ pub fn interpolate(
     check_len("q_out", q_out, model.nq())?;
     // Per joint, without a scratch buffer: integrate(q0, t · difference(q0, q1)).
     let mut v = [0.0f64; 6];
-    for b in model.bodies().iter().skip(1) {
+    for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {
         let (a, c) = (&q0[b.idx_q..b.idx_q + b.nq], &q1[b.idx_q..b.idx_q + b.nq]);
         let v = &mut v[..b.nv];
         difference_joint(b.kind, a, c, v);
@@ -397,9 +397,16 @@ fn joint_block(
         model.joint_q_range(j)
     };
     if range.is_empty() {
+        let reason = match model.joint_body(j).and_then(|b| model.bodies()[b].mimic) {
+            Some(m) => format!(
+                "it follows '{}' (coupled mimic) and has no coordinate of its own",
+                model.joint(m.leader).name
+            ),
+            None => "a fixed joint has no coordinates".into(),
+        };
         return Err(KinematicsError::InvalidJointValue {
             joint: name.to_string(),
-            reason: "a fixed joint has no coordinates".into(),
+            reason,
         });
     }
     if values.len() != range.len() {

@@ -77,6 +77,10 @@ pub struct KinematicsData {
     pub(crate) jacobian: Vec<Motion>,
     /// Time derivatives of `jacobian`'s columns.
     pub(crate) jacobian_dot: Vec<Motion>,
+    /// Per body: the world-frame Jacobian column of a coupled mimic body's own joint (unscaled),
+    /// and its time derivative. Unused for other bodies.
+    pub(crate) mimic_jacobian: Vec<Motion>,
+    pub(crate) mimic_jacobian_dot: Vec<Motion>,
     /// Body velocities in the world frame (at the world origin), for `jacobian_dot`.
     pub(crate) world_velocity: Vec<Motion>,
     /// The configuration of the last forward kinematics (for consumers such as the Chain API).
@@ -112,6 +116,8 @@ impl KinematicsData {
             world_from_frame: vec![Se3::IDENTITY; model.frames().len()],
             jacobian: vec![Motion::ZERO; model.nv()],
             jacobian_dot: vec![Motion::ZERO; model.nv()],
+            mimic_jacobian: vec![Motion::ZERO; nb],
+            mimic_jacobian_dot: vec![Motion::ZERO; nb],
             world_velocity: vec![Motion::ZERO; nb],
             q: vec![0.0; model.nq()],
             v: vec![0.0; model.nv()],
@@ -211,7 +217,8 @@ impl KinematicsData {
 
     /// Joint Jacobian columns in the world frame (written by
     /// [`compute_joint_jacobians`](crate::compute_joint_jacobians)): column `k` is the twist, at
-    /// the world origin in world axes, produced by a unit velocity of coordinate `k`.
+    /// the world origin in world axes, of the joint that owns coordinate `k` for a unit velocity of
+    /// `k` (the motion of coupled mimic followers is added by the frame Jacobians, not here).
     #[inline]
     #[must_use]
     pub fn joint_jacobians(&self) -> &[Motion] {

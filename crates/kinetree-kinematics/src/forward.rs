@@ -67,7 +67,7 @@ pub fn forward_kinematics_with_velocity(
     data.v.copy_from_slice(v);
     for i in 1..bodies.len() {
         let b = &bodies[i];
-        let vj = data.joint_models[i].motion(&v[b.idx_v..b.idx_v + b.nv]);
+        let vj = data.joint_models[i].body_motion(b, v);
         let parent_v = data.parent_from_body[i].act_inv_motion(&data.body_velocity[b.parent]);
         data.body_velocity[i] = parent_v + vj;
     }
@@ -95,8 +95,8 @@ pub fn forward_kinematics_with_acceleration(
     for i in 1..bodies.len() {
         let b = &bodies[i];
         let jm = &data.joint_models[i];
-        let aj = jm.motion(&a[b.idx_v..b.idx_v + b.nv]);
-        let vj = jm.motion(&v[b.idx_v..b.idx_v + b.nv]);
+        let aj = jm.body_motion(b, a);
+        let vj = jm.body_motion(b, v);
         let parent_a = data.parent_from_body[i].act_inv_motion(&data.body_acceleration[b.parent]);
         data.body_acceleration[i] = parent_a + aj + data.body_velocity[i].cross_motion(&vj);
     }
@@ -110,8 +110,7 @@ pub(crate) fn placements(model: &Model, data: &mut KinematicsData, q: &[f64]) {
     data.q.copy_from_slice(q);
     for i in 1..bodies.len() {
         let b = &bodies[i];
-        let local =
-            data.joint_models[i].placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        let local = data.joint_models[i].body_transform(b, q);
         data.parent_from_body[i] = local;
         data.world_from_body[i] = if b.parent == 0 {
             local

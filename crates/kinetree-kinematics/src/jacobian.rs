@@ -74,6 +74,9 @@ pub fn compute_joint_jacobians(
 fn fill_joint_jacobians(model: &Model, data: &mut KinematicsData) {
     for (i, b) in model.bodies().iter().enumerate().skip(1) {
         let x = data.world_from_body[i];
+        if b.mimic.is_some() {
+            data.mimic_jacobian[i] = x.act_motion(&data.joint_models[i].subspace_column(0));
+        }
         for k in 0..b.nv {
             data.jacobian[b.idx_v + k] = x.act_motion(&data.joint_models[i].subspace_column(k));
         }
@@ -114,8 +117,14 @@ pub fn frame_jacobian(
     let mut i = body;
     while i != 0 {
         let b = &bodies[i];
+        // Accumulate: a coupled mimic follower adds to its leader's column.
+        if let Some(m) = &b.mimic {
+            out[b.idx_v] +=
+                world_to_reference(&world_from_frame, &data.mimic_jacobian[i], reference)
+                    * m.multiplier;
+        }
         for k in b.idx_v..b.idx_v + b.nv {
-            out[k] = world_to_reference(&world_from_frame, &data.jacobian[k], reference);
+            out[k] += world_to_reference(&world_from_frame, &data.jacobian[k], reference);
         }
         i = b.parent;
     }
@@ -151,9 +160,13 @@ pub fn compute_frame_jacobian(
     while i != 0 {
         let b = &bodies[i];
         let x = data.world_from_body[i];
+        if let Some(m) = &b.mimic {
+            let col = x.act_motion(&data.joint_models[i].subspace_column(0));
+            out[b.idx_v] += world_to_reference(&world_from_frame, &col, reference) * m.multiplier;
+        }
         for k in 0..b.nv {
             let col = x.act_motion(&data.joint_models[i].subspace_column(k));
-            out[b.idx_v + k] = world_to_reference(&world_from_frame, &col, reference);
+            out[b.idx_v + k] += world_to_reference(&world_from_frame, &col, reference);
         }
         i = b.parent;
     }
@@ -176,6 +189,9 @@ pub fn compute_joint_jacobians_time_variation(
     for (i, b) in model.bodies().iter().enumerate().skip(1) {
         let ov = data.world_from_body[i].act_motion(&data.body_velocity[i]);
         data.world_velocity[i] = ov;
+        if b.mimic.is_some() {
+            data.mimic_jacobian_dot[i] = ov.cross_motion(&data.mimic_jacobian[i]);
+        }
         for k in b.idx_v..b.idx_v + b.nv {
             data.jacobian_dot[k] = ov.cross_motion(&data.jacobian[k]);
         }
@@ -209,19 +225,23 @@ pub fn frame_jacobian_time_variation(
     let mut i = body;
     while i != 0 {
         let b = &bodies[i];
+        let derivative = |j: Motion, dj: Motion| match reference {
+            ReferenceFrame::World => dj,
+            ReferenceFrame::LocalWorldAligned => Motion::new(
+                dj.linear + dj.angular.cross(p) + j.angular.cross(p_dot),
+                dj.angular,
+            ),
+            ReferenceFrame::Local => {
+                let jl = world_from_frame.act_inv_motion(&j);
+                world_from_frame.act_inv_motion(&dj) - local_v.cross_motion(&jl)
+            }
+        };
+        if let Some(m) = &b.mimic {
+            out[b.idx_v] +=
+                derivative(data.mimic_jacobian[i], data.mimic_jacobian_dot[i]) * m.multiplier;
+        }
         for k in b.idx_v..b.idx_v + b.nv {
-            let (j, dj) = (data.jacobian[k], data.jacobian_dot[k]);
-            out[k] = match reference {
-                ReferenceFrame::World => dj,
-                ReferenceFrame::LocalWorldAligned => Motion::new(
-                    dj.linear + dj.angular.cross(p) + j.angular.cross(p_dot),
-                    dj.angular,
-                ),
-                ReferenceFrame::Local => {
-                    let jl = world_from_frame.act_inv_motion(&j);
-                    world_from_frame.act_inv_motion(&dj) - local_v.cross_motion(&jl)
-                }
-            };
+            out[k] += derivative(data.jacobian[k], data.jacobian_dot[k]);
         }
         i = b.parent;
     }

@@ -162,6 +162,30 @@ impl JointModel {
         }
     }
 
+    /// `parent_from_body` of `body` (whose joint model this is) for the full configuration `q`.
+    /// A coupled mimic body uses `multiplier · q_leader + offset`.
+    #[inline]
+    #[must_use]
+    pub fn body_transform(&self, body: &Body, q: &[f64]) -> Se3 {
+        match &body.mimic {
+            None => self.placed_transform(&body.placement, &q[body.idx_q..body.idx_q + body.nq]),
+            Some(m) => {
+                self.placed_transform(&body.placement, &[m.multiplier * q[body.idx_q] + m.offset])
+            }
+        }
+    }
+
+    /// The joint velocity `S · v` of `body` for the full velocity vector `v` (a coupled mimic body
+    /// moves at `multiplier · v_leader`).
+    #[inline]
+    #[must_use]
+    pub fn body_motion(&self, body: &Body, v: &[f64]) -> Motion {
+        match &body.mimic {
+            None => self.motion(&v[body.idx_v..body.idx_v + body.nv]),
+            Some(m) => self.motion(&[m.multiplier * v[body.idx_v]]),
+        }
+    }
+
     /// The joint motion `joint_from_child` for configuration block `q`.
     #[must_use]
     pub fn transform(&self, q: &[f64]) -> Se3 {

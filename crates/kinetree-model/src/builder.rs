@@ -4,7 +4,7 @@ use crate::error::{Issue, ItemKind, ModelError};
 use crate::frame::Frame;
 use crate::joint::{Joint, JointDynamics, JointKind, JointLimits, Mimic};
 use crate::link::{Geometry, Link};
-use crate::model::{Body, Model, ROOT_JOINT_NAME, RootJoint};
+use crate::model::{Body, BodyMimic, MimicMode, Model, ROOT_JOINT_NAME, RootJoint};
 use glam::DVec3;
 use kinetree_spatial::{Inertia, InertiaDefect, Se3, rotation};
 use std::collections::HashMap;
@@ -193,6 +193,7 @@ pub struct ModelBuilder {
     ignored: Vec<String>,
     warnings: Vec<Issue>,
     inertia_check: InertiaCheck,
+    mimic_mode: MimicMode,
 }
 
 impl ModelBuilder {
@@ -238,6 +239,12 @@ impl ModelBuilder {
     /// Chooses whether physically invalid inertias are errors or warnings (default: warnings).
     pub fn inertia_check(&mut self, check: InertiaCheck) -> &mut Self {
         self.inertia_check = check;
+        self
+    }
+
+    /// Chooses whether mimic joints are independent DoFs (default) or follow their leaders.
+    pub fn mimic_mode(&mut self, mode: MimicMode) -> &mut Self {
+        self.mimic_mode = mode;
         self
     }
 
@@ -398,6 +405,16 @@ impl ModelBuilder {
                         });
                     }
                     Some(_) => {}
+                }
+                if self.mimic_mode == MimicMode::Coupled
+                    && joint_names
+                        .get(&m.joint)
+                        .is_some_and(|&l| self.joints[l].mimic.is_some())
+                {
+                    issues.push(Issue::InvalidMimic {
+                        joint: j.name.clone(),
+                        reason: format!("its leader '{}' is itself a mimic joint", m.joint),
+                    });
                 }
                 if !(m.multiplier.is_finite() && m.offset.is_finite()) {
                     issues.push(Issue::NonFinite {
@@ -600,6 +617,7 @@ impl ModelBuilder {
             nv: 0,
             inertia: Inertia::ZERO,
             subtree_end: 1,
+            mimic: None,
         }];
         let mut link_body = vec![0usize; nl];
         let mut body_from_link = vec![Se3::IDENTITY; nl];
@@ -613,6 +631,12 @@ impl ModelBuilder {
             let c = j.child_link;
             if j.kind.is_moving() {
                 let b = bodies.len();
+                let coupled = self.mimic_mode == MimicMode::Coupled && j.mimic.is_some();
+                let (own_nq, own_nv) = if coupled {
+                    (0, 0)
+                } else {
+                    (j.kind.nq(), j.kind.nv())
+                };
                 bodies.push(Body {
                     joint: Some(ji),
                     parent: pb,
@@ -621,19 +645,36 @@ impl ModelBuilder {
                     axis: j.axis,
                     idx_q: nq,
                     idx_v: nv,
-                    nq: j.kind.nq(),
-                    nv: j.kind.nv(),
+                    nq: own_nq,
+                    nv: own_nv,
                     inertia: Inertia::ZERO,
                     subtree_end: b + 1,
+                    mimic: None,
                 });
-                nq += j.kind.nq();
-                nv += j.kind.nv();
+                nq += own_nq;
+                nv += own_nv;
                 joint_body[ji] = Some(b);
                 link_body[c] = b;
                 body_from_link[c] = Se3::IDENTITY;
             } else {
                 link_body[c] = pb;
                 body_from_link[c] = pb_from_parent * j.placement;
+            }
+        }
+        // Coupled mimic bodies read their leader's block (leaders may come later in the tree).
+        if self.mimic_mode == MimicMode::Coupled {
+            for b in 1..bodies.len() {
+                let Some(ji) = bodies[b].joint else { continue };
+                let Some(m) = &joints[ji].mimic else { continue };
+                let leader = joints.iter().position(|x| x.name == m.joint).unwrap_or(ji);
+                let lb = joint_body[leader].unwrap_or(b);
+                bodies[b].idx_q = bodies[lb].idx_q;
+                bodies[b].idx_v = bodies[lb].idx_v;
+                bodies[b].mimic = Some(BodyMimic {
+                    leader,
+                    multiplier: m.multiplier,
+                    offset: m.offset,
+                });
             }
         }
         for (l, link) in links.iter().enumerate() {

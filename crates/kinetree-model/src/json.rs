@@ -1411,9 +1411,11 @@ impl Model {
             _ => {
                 let text = read(path)?;
                 match text.trim_start().chars().next() {
-                    Some('<') => {
-                        crate::urdf::from_urdf(&text, root.unwrap_or_default(), Some(path.into()))
-                    }
+                    Some('<') => crate::urdf::from_urdf(
+                        &text,
+                        &crate::urdf::LoadOptions::from(root.unwrap_or_default()),
+                        Some(path.into()),
+                    ),
                     Some('{') => from_json(&text, root, Some(path)),
                     _ => Err(ModelError::UnknownFormat {
                         path: path.to_path_buf(),

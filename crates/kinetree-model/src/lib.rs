@@ -70,4 +70,5 @@ pub use joint::{Joint, JointDynamics, JointKind, JointLimits, Mimic, plane_basis
 pub use json::{AngleUnit, DatumExport, JSON_SCHEMA_VERSION, JsonOptions, LengthUnit, Units};
 pub use kinetree_spatial as spatial;
 pub use link::{Collision, Geometry, Inertial, Link, LinkMetadata, Visual};
-pub use model::{Body, Model, ROOT_JOINT_NAME, RootJoint};
+pub use model::{Body, BodyMimic, MimicMode, Model, ROOT_JOINT_NAME, RootJoint};
+pub use urdf::LoadOptions;

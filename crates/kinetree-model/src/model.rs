@@ -54,6 +54,46 @@ pub struct Body {
     pub inertia: Inertia,
     /// One past the last body of this body's subtree (bodies `i..subtree_end` are the subtree).
     pub subtree_end: usize,
+    /// Set when the joint is a coupled mimic joint ([`MimicMode::Coupled`]): it owns no
+    /// coordinates (`nq = nv = 0`), and `idx_q`/`idx_v` point at its leader's block.
+    pub mimic: Option<BodyMimic>,
+}
+
+/// How a coupled mimic body follows its leader: `q = multiplier · q_leader + offset`,
+/// `v = multiplier · v_leader`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyMimic {
+    /// The leading joint (index into [`Model::joints`]).
+    pub leader: usize,
+    /// Multiplier.
+    pub multiplier: f64,
+    /// Offset (rad or m).
+    pub offset: f64,
+}
+
+impl Body {
+    /// The joint coordinate of a 1-DoF body for configuration `q`: its own entry, or for a
+    /// coupled mimic body `multiplier · q[idx_q] + offset`.
+    #[inline]
+    #[must_use]
+    pub fn coordinate(&self, q: &[f64]) -> f64 {
+        match &self.mimic {
+            Some(m) => m.multiplier * q[self.idx_q] + m.offset,
+            None => q[self.idx_q],
+        }
+    }
+}
+
+/// What a URDF `<mimic>` tag does.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MimicMode {
+    /// Every mimic joint is its own degree of freedom; the tag is kept for information
+    /// (Pinocchio's default, and the reference data's convention).
+    #[default]
+    Independent,
+    /// A mimic joint follows its leader, `q = multiplier · q_leader + offset`, and has no
+    /// coordinate of its own; Jacobians account for the coupling.
+    Coupled,
 }
 
 /// An articulated rigid-body model: links, joints and named frames, validated and immutable.
@@ -304,7 +344,14 @@ impl Model {
         self.joint_body[joint]
     }
 
-    /// Start of joint `joint`'s block in `q` and its size (0 for fixed joints).
+    /// Whether some joint follows a leader ([`MimicMode::Coupled`]).
+    #[must_use]
+    pub fn has_coupled_mimics(&self) -> bool {
+        self.bodies.iter().any(|b| b.mimic.is_some())
+    }
+
+    /// Start of joint `joint`'s block in `q` and its size (0 for fixed joints and coupled mimic
+    /// joints, which own no coordinates).
     #[must_use]
     pub fn joint_q_range(&self, joint: usize) -> core::ops::Range<usize> {
         self.joint_body[joint].map_or(0..0, |b| {
@@ -313,7 +360,8 @@ impl Model {
         })
     }
 
-    /// Start of joint `joint`'s block in `v` and its size (0 for fixed joints).
+    /// Start of joint `joint`'s block in `v` and its size (0 for fixed joints and coupled mimic
+    /// joints).
     #[must_use]
     pub fn joint_v_range(&self, joint: usize) -> core::ops::Range<usize> {
         self.joint_body[joint].map_or(0..0, |b| {
@@ -322,9 +370,13 @@ impl Model {
         })
     }
 
-    /// The moving joints in body order (the order of their blocks in `q` and `v`).
+    /// The moving joints that own coordinates, in body order (the order of their blocks in `q`
+    /// and `v`). Coupled mimic joints are not included.
     pub fn moving_joints(&self) -> impl Iterator<Item = usize> + '_ {
-        self.bodies.iter().filter_map(|b| b.joint)
+        self.bodies
+            .iter()
+            .filter(|b| b.mimic.is_none())
+            .filter_map(|b| b.joint)
     }
 
     /// Total mass of all links (kg), the links welded to the world included.

@@ -15,11 +15,11 @@
 //!   model needs. [`ModelBuilder::build`](crate::ModelBuilder::build) used directly still rejects
 //!   an unknown mimic target.
 
-use crate::builder::{JointSpec, ModelBuilder};
+use crate::builder::{InertiaCheck, JointSpec, ModelBuilder};
 use crate::error::{Issue, ModelError};
 use crate::joint::{JointDynamics, JointKind, JointLimits, Mimic};
 use crate::link::{Collision, Geometry, Inertial, Link, Visual};
-use crate::model::{Model, RootJoint};
+use crate::model::{MimicMode, Model, RootJoint};
 use glam::DVec3;
 use kinetree_spatial::{Se3, Symmetric3};
 use quick_xml::events::Event;
@@ -52,7 +52,7 @@ impl Model {
             path: path.to_path_buf(),
             source,
         })?;
-        from_urdf(&text, root, Some(path.to_path_buf()))
+        from_urdf(&text, &LoadOptions::from(root), Some(path.to_path_buf()))
     }
 
     /// Loads a URDF document from a string.
@@ -60,15 +60,75 @@ impl Model {
     /// # Errors
     /// As [`Model::from_urdf_file`], without the file name.
     pub fn from_urdf_str(urdf: &str, root: RootJoint) -> Result<Model, ModelError> {
-        from_urdf(urdf, root, None)
+        from_urdf(urdf, &LoadOptions::from(root), None)
+    }
+
+    /// Loads a URDF file with explicit options (root joint, mimic coupling, inertia check).
+    ///
+    /// # Errors
+    /// As [`Model::from_urdf_file`]; with [`MimicMode::Coupled`], a `<mimic>` naming a joint that
+    /// does not exist is [`Issue::UnknownMimicTarget`](crate::Issue::UnknownMimicTarget).
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree_model::{LoadOptions, MimicMode, Model, RootJoint};
+    /// # fn main() -> Result<(), kinetree_model::ModelError> {
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/robots/panda.urdf");
+    /// let options = LoadOptions { mimic: MimicMode::Coupled, ..LoadOptions::from(RootJoint::Fixed) };
+    /// let panda = Model::from_urdf_file_with(path, &options)?;
+    /// // The second finger follows the first: one coordinate fewer.
+    /// assert_eq!((panda.nq(), panda.nv()), (8, 8));
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn from_urdf_file_with(
+        path: impl AsRef<Path>,
+        options: &LoadOptions,
+    ) -> Result<Model, ModelError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        from_urdf(&text, options, Some(path.to_path_buf()))
+    }
+
+    /// Loads a URDF document from a string with explicit options.
+    ///
+    /// # Errors
+    /// As [`Model::from_urdf_file_with`].
+    pub fn from_urdf_str_with(urdf: &str, options: &LoadOptions) -> Result<Model, ModelError> {
+        from_urdf(urdf, options, None)
+    }
+}
+
+/// Options of the URDF loaders ([`Model::from_urdf_file_with`]). `From<RootJoint>` gives the
+/// defaults for a root attachment.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// How the root link is attached to the world.
+    pub root_joint: RootJoint,
+    /// What `<mimic>` tags do (default: independent DoFs, as in Pinocchio).
+    pub mimic: MimicMode,
+    /// Whether physically invalid inertias are warnings (default) or errors.
+    pub inertia_check: InertiaCheck,
+}
+
+impl From<RootJoint> for LoadOptions {
+    fn from(root_joint: RootJoint) -> Self {
+        Self {
+            root_joint,
+            ..Self::default()
+        }
     }
 }
 
 pub(crate) fn from_urdf(
     text: &str,
-    root: RootJoint,
+    options: &LoadOptions,
     file: Option<PathBuf>,
 ) -> Result<Model, ModelError> {
+    let root = options.root_joint;
     let Scan { ignored, textures } = scan_xml(text, file.as_deref())?;
     let sanitized;
     let text = if textures.is_empty() {
@@ -82,7 +142,9 @@ pub(crate) fn from_urdf(
         message: e.to_string(),
     })?;
     let mut b = ModelBuilder::new(robot.name.clone());
-    b.root_joint(root);
+    b.root_joint(root)
+        .mimic_mode(options.mimic)
+        .inertia_check(options.inertia_check);
     for what in ignored {
         b.note_ignored(what);
     }
@@ -103,9 +165,10 @@ pub(crate) fn from_urdf(
             spec.mimic = None;
             b.note_ignored(format!("<mimic> of fixed joint '{}'", spec.name));
         }
+        let independent = options.mimic == MimicMode::Independent;
         if let Some(m) = spec
             .mimic
-            .take_if(|m| !joint_names.contains(m.joint.as_str()))
+            .take_if(|m| independent && !joint_names.contains(m.joint.as_str()))
         {
             // Mimic joints are independent DoFs here, so a dangling tag is harmless: drop it.
             b.note_warning(Issue::UnknownMimicTarget {

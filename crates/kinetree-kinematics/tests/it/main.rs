@@ -3,5 +3,6 @@
 mod allocation;
 mod common;
 mod finite_differences;
+mod mimic;
 mod reachable;
 mod reference;
