@@ -1,0 +1,260 @@
+//! Building a [`CollisionModel`] from a model's `<collision>` elements.
+
+use crate::error::CollisionError;
+use crate::mesh::{read_mesh_file, resolve_mesh_path};
+use crate::model::{CollisionModel, CollisionShape, SkippedMesh};
+use crate::pose::se3_to_pose;
+use glam::{DQuat, DVec3};
+use kinetree_kinematics::model::{Geometry, Model};
+use parry3d_f64::math::Pose;
+use parry3d_f64::shape::SharedShape;
+use std::path::PathBuf;
+
+/// How mesh geometries become parry shapes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MeshMode {
+    /// A triangle mesh (parry `TriMesh`, a surface): exact, but two meshes that interpenetrate
+    /// report the depth between their surfaces, and one mesh inside another does not collide.
+    /// Pinocchio/coal's default.
+    #[default]
+    TriMesh,
+    /// The convex hull of the mesh's vertices (parry `ConvexPolyhedron`): conservative, faster,
+    /// and with a true penetration depth.
+    ConvexHull,
+    /// Leave meshes out (listed in [`CollisionModel::skipped_meshes`]); only primitives
+    /// collide, like the reference's `primitives_only` collision mode.
+    Ignore,
+}
+
+/// What to do with a mesh that cannot be found or parsed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MissingMeshes {
+    /// Fail with [`CollisionError::MeshNotFound`] or [`CollisionError::MeshParse`].
+    #[default]
+    Error,
+    /// Leave the element out and list it in [`CollisionModel::skipped_meshes`].
+    Skip,
+}
+
+/// Options of [`CollisionModel::from_model`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CollisionOptions {
+    /// Directories where mesh files are looked up (see [`crate::mesh::candidate_paths`]):
+    /// `package://pkg/x.stl` is tried as `dir/pkg/x.stl` and `dir/x.stl`, a relative name as
+    /// `dir/name`; absolute paths are used as they are.
+    pub mesh_search_paths: Vec<PathBuf>,
+    /// Triangle meshes or convex hulls.
+    pub mesh_mode: MeshMode,
+    /// Error on, or skip, meshes that cannot be loaded.
+    pub missing_meshes: MissingMeshes,
+    /// Link pairs (by name, either order) that never need testing, e.g. from an SRDF file
+    /// ([`crate::srdf::parse_disabled_pairs`]).
+    pub disabled_link_pairs: Vec<(String, String)>,
+}
+
+impl CollisionOptions {
+    /// Adds a directory to the mesh search paths.
+    #[must_use]
+    pub fn with_mesh_path(mut self, dir: impl Into<PathBuf>) -> Self {
+        self.mesh_search_paths.push(dir.into());
+        self
+    }
+
+    /// Sets the mesh mode.
+    #[must_use]
+    pub fn with_mesh_mode(mut self, mode: MeshMode) -> Self {
+        self.mesh_mode = mode;
+        self
+    }
+
+    /// Skips meshes that cannot be loaded instead of failing.
+    #[must_use]
+    pub fn skip_missing_meshes(mut self) -> Self {
+        self.missing_meshes = MissingMeshes::Skip;
+        self
+    }
+}
+
+impl CollisionModel {
+    /// The collision shapes of every link of `model`, and the candidate pairs.
+    ///
+    /// Each `<collision>` element becomes one shape named `<link>_<k>` placed at its origin on the
+    /// link's moving body: boxes (full side lengths), spheres, cylinders (radius and full length
+    /// along the element's z axis, centred), capsules (cylindrical length along z) and meshes
+    /// (scaled per axis; STL binary or ASCII, OBJ) as [`MeshMode`] says.
+    ///
+    /// Candidate pairs: every pair of shapes whose links are on different moving bodies (links
+    /// joined by fixed joints form one body), minus pairs whose bodies are parent and child
+    /// through one joint, minus `options.disabled_link_pairs`, as Pinocchio's
+    /// `addAllCollisionPairs` followed by removal of adjacent joints (the reference's
+    /// `collision_conventions`).
+    ///
+    /// # Errors
+    /// [`CollisionError::MeshNotFound`] / [`CollisionError::MeshParse`] naming the file (unless
+    /// `options.missing_meshes` is [`MissingMeshes::Skip`]); [`CollisionError::InvalidGeometry`]
+    /// for negative or non-finite sizes; [`CollisionError::UnknownLink`] for a disabled pair
+    /// naming no link.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree_collision::{CollisionModel, CollisionOptions};
+    /// use kinetree_collision::kinematics::model::{Model, RootJoint};
+    /// # fn main() -> Result<(), kinetree_collision::CollisionError> {
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"),
+    ///                    "/../../tests/data/reference/urdf/panda_collision.urdf");
+    /// let model = Model::from_urdf_file(path, RootJoint::Fixed).map_err(kinetree_collision::kinematics::KinematicsError::from)?;
+    /// let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default())?;
+    /// assert_eq!(cmodel.shapes().len(), 39);
+    /// assert_eq!(cmodel.pairs().len(), 513);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn from_model(model: &Model, options: &CollisionOptions) -> Result<Self, CollisionError> {
+        let mut shapes = Vec::new();
+        let mut skipped = Vec::new();
+        for (link_index, link) in model.links().iter().enumerate() {
+            let (body, body_from_link) = model.link_body(link_index);
+            for (element, collision) in link.collisions.iter().enumerate() {
+                let built = match &collision.geometry {
+                    Geometry::Mesh { filename, .. } if options.mesh_mode == MeshMode::Ignore => {
+                        skipped.push(SkippedMesh {
+                            link: link.name.clone(),
+                            element,
+                            filename: filename.clone(),
+                            reason: "meshes ignored".to_string(),
+                        });
+                        continue;
+                    }
+                    geometry => shape_from_geometry(geometry, options, &link.name, element),
+                };
+                let (shape, geometry_from_shape) = match built {
+                    Ok(s) => s,
+                    Err(
+                        e
+                        @ (CollisionError::MeshNotFound { .. } | CollisionError::MeshParse { .. }),
+                    ) if options.missing_meshes == MissingMeshes::Skip => {
+                        let filename = match &collision.geometry {
+                            Geometry::Mesh { filename, .. } => filename.clone(),
+                            _ => String::new(),
+                        };
+                        skipped.push(SkippedMesh {
+                            link: link.name.clone(),
+                            element,
+                            filename,
+                            reason: e.to_string(),
+                        });
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                };
+                let body_from_geometry = *body_from_link * collision.origin;
+                shapes.push(CollisionShape {
+                    name: format!("{}_{element}", link.name),
+                    link: link_index,
+                    element,
+                    body,
+                    origin: collision.origin,
+                    body_from_shape: se3_to_pose(&body_from_geometry) * geometry_from_shape,
+                    geometry: collision.geometry.clone(),
+                    shape,
+                });
+            }
+        }
+        let mut cmodel = CollisionModel {
+            shapes,
+            pairs: Vec::new(),
+            pair_start: Vec::new(),
+            link_pairs: Vec::new(),
+            skipped,
+            body_parent: model.bodies().iter().map(|b| b.parent).collect(),
+            disabled: Vec::new(),
+        };
+        cmodel.rebuild_pairs();
+        cmodel.disable_link_pairs(
+            model,
+            options
+                .disabled_link_pairs
+                .iter()
+                .map(|(a, b)| (a.as_str(), b.as_str())),
+        )?;
+        Ok(cmodel)
+    }
+}
+
+/// The parry shape of a geometry and the pose of that shape in the geometry's frame (identity,
+/// except a quarter turn about x for cylinders, which parry builds along y).
+///
+/// Meshes are looked up and loaded as `options` says. `owner` and `element` only name the
+/// geometry in errors.
+///
+/// # Errors
+/// [`CollisionError::InvalidGeometry`] for negative or non-finite sizes or a degenerate mesh;
+/// [`CollisionError::MeshNotFound`] / [`CollisionError::MeshParse`] for meshes.
+pub fn shape_from_geometry(
+    geometry: &Geometry,
+    options: &CollisionOptions,
+    owner: &str,
+    element: usize,
+) -> Result<(SharedShape, Pose), CollisionError> {
+    let invalid = |reason: String| CollisionError::InvalidGeometry {
+        link: owner.to_string(),
+        index: element,
+        reason,
+    };
+    let check = |what: &str, x: f64| {
+        if x.is_finite() && x >= 0.0 {
+            Ok(x)
+        } else {
+            Err(invalid(format!(
+                "{what} = {x} must be finite and non-negative"
+            )))
+        }
+    };
+    Ok(match geometry {
+        Geometry::Box { size } => {
+            let [x, y, z] = [
+                check("size x", size[0])?,
+                check("size y", size[1])?,
+                check("size z", size[2])?,
+            ];
+            (
+                SharedShape::cuboid(x / 2.0, y / 2.0, z / 2.0),
+                Pose::IDENTITY,
+            )
+        }
+        Geometry::Sphere { radius } => {
+            (SharedShape::ball(check("radius", *radius)?), Pose::IDENTITY)
+        }
+        Geometry::Cylinder { radius, length } => (
+            SharedShape::cylinder(check("length", *length)? / 2.0, check("radius", *radius)?),
+            Pose::from_rotation(DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2)),
+        ),
+        Geometry::Capsule { radius, length } => (
+            SharedShape::capsule_z(check("length", *length)? / 2.0, check("radius", *radius)?),
+            Pose::IDENTITY,
+        ),
+        Geometry::Mesh { filename, scale } => {
+            let scale = DVec3::new(
+                check("scale x", scale[0])?,
+                check("scale y", scale[1])?,
+                check("scale z", scale[2])?,
+            );
+            let path = resolve_mesh_path(filename, &options.mesh_search_paths, owner)?;
+            let mesh = read_mesh_file(&path)?;
+            let vertices: Vec<DVec3> = mesh.vertices.iter().map(|v| *v * scale).collect();
+            let shape = match options.mesh_mode {
+                MeshMode::ConvexHull => SharedShape::convex_hull(&vertices).ok_or_else(|| {
+                    invalid(format!(
+                        "the convex hull of '{}' is degenerate (flat or empty)",
+                        path.display()
+                    ))
+                })?,
+                MeshMode::TriMesh | MeshMode::Ignore => {
+                    SharedShape::trimesh(vertices, mesh.triangles)
+                        .map_err(|e| invalid(format!("'{}': {e}", path.display())))?
+                }
+            };
+            (shape, Pose::IDENTITY)
+        }
+    })
+}

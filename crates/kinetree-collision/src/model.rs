@@ -1,0 +1,183 @@
+//! [`CollisionModel`]: the collision shapes of a [`Model`](kinetree_kinematics::model::Model)'s
+//! links, where they sit on the moving bodies, and the candidate pairs to test.
+
+use kinetree_kinematics::model::Geometry;
+use kinetree_kinematics::spatial::Se3;
+use parry3d_f64::math::Pose;
+use parry3d_f64::shape::SharedShape;
+
+/// One collision shape: a `<collision>` element of a link, turned into a parry shape.
+#[derive(Clone, Debug)]
+pub struct CollisionShape {
+    pub(crate) name: String,
+    pub(crate) link: usize,
+    pub(crate) element: usize,
+    pub(crate) body: usize,
+    pub(crate) origin: Se3,
+    pub(crate) body_from_shape: Pose,
+    pub(crate) geometry: Geometry,
+    pub(crate) shape: SharedShape,
+}
+
+impl CollisionShape {
+    /// The shape's name, `<link>_<k>` with `k` the index of its `<collision>` element within the
+    /// link (counting every element, skipped ones included), as Pinocchio names geometries.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The link carrying the shape (index into `model.links()`).
+    #[must_use]
+    pub fn link(&self) -> usize {
+        self.link
+    }
+
+    /// Index of the shape's `<collision>` element within its link's `collisions`.
+    #[must_use]
+    pub fn element(&self) -> usize {
+        self.element
+    }
+
+    /// The moving body carrying the shape (index into `model.bodies()`; 0 is the world).
+    #[must_use]
+    pub fn body(&self) -> usize {
+        self.body
+    }
+
+    /// Pose of the geometry in its link's frame (the element's `<origin>`).
+    #[must_use]
+    pub fn origin(&self) -> &Se3 {
+        &self.origin
+    }
+
+    /// Pose of the parry shape in its body's frame. For a cylinder this includes a quarter turn
+    /// about x: parry's cylinders lie along their local y axis, URDF's along z.
+    #[must_use]
+    pub fn body_from_shape(&self) -> &Pose {
+        &self.body_from_shape
+    }
+
+    /// The geometry as the model describes it.
+    #[must_use]
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// The parry shape.
+    #[must_use]
+    pub fn shape(&self) -> &SharedShape {
+        &self.shape
+    }
+}
+
+/// A candidate pair of shapes, `shape_a < shape_b`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CollisionPair {
+    /// First shape (index into [`CollisionModel::shapes`]).
+    pub shape_a: usize,
+    /// Second shape.
+    pub shape_b: usize,
+    /// The pair of links the two shapes belong to (index into [`CollisionModel::link_pairs`]).
+    pub link_pair: usize,
+}
+
+/// A pair of links with at least one candidate shape pair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LinkPair {
+    /// The link whose shapes come first in shape order (index into `model.links()`).
+    pub link_a: usize,
+    /// The other link.
+    pub link_b: usize,
+}
+
+/// A mesh that [`MissingMeshes::Skip`](crate::MissingMeshes::Skip) or
+/// [`MeshMode::Ignore`](crate::MeshMode::Ignore) left out of the model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SkippedMesh {
+    /// The link.
+    pub link: String,
+    /// Index of the `<collision>` element within the link.
+    pub element: usize,
+    /// The file name as written in the model.
+    pub filename: String,
+    /// Why it was left out (the error message, or "meshes ignored").
+    pub reason: String,
+}
+
+/// The collision shapes of a model and the pairs to test, after Pinocchio's `GeometryModel`.
+///
+/// Build it with [`CollisionModel::from_model`]; create a [`CollisionData`](crate::CollisionData)
+/// for the queries. Shapes are ordered by link (the model's depth-first order), then by
+/// `<collision>` element. Candidate pairs are every pair of shapes on different moving bodies
+/// whose bodies are not parent and child, minus disabled link pairs (see
+/// [`CollisionModel::from_model`]); they are sorted lexicographically by shape index.
+#[derive(Clone, Debug)]
+pub struct CollisionModel {
+    pub(crate) shapes: Vec<CollisionShape>,
+    pub(crate) pairs: Vec<CollisionPair>,
+    /// `pairs[pair_start[a]..pair_start[a + 1]]` are the pairs whose first shape is `a`.
+    pub(crate) pair_start: Vec<usize>,
+    pub(crate) link_pairs: Vec<LinkPair>,
+    pub(crate) skipped: Vec<SkippedMesh>,
+    /// Parent body of every body of the model.
+    pub(crate) body_parent: Vec<usize>,
+    /// Disabled link pairs, as `(min, max)` link indices, sorted.
+    pub(crate) disabled: Vec<(usize, usize)>,
+}
+
+impl CollisionModel {
+    /// Every collision shape.
+    #[must_use]
+    pub fn shapes(&self) -> &[CollisionShape] {
+        &self.shapes
+    }
+
+    /// The shape with this name (`<link>_<k>`), if any.
+    #[must_use]
+    pub fn shape_index(&self, name: &str) -> Option<usize> {
+        self.shapes.iter().position(|s| s.name == name)
+    }
+
+    /// The candidate shape pairs, sorted by `(shape_a, shape_b)`.
+    #[must_use]
+    pub fn pairs(&self) -> &[CollisionPair] {
+        &self.pairs
+    }
+
+    /// The candidate pair of shapes `a` and `b` (in either order), if they are one.
+    #[must_use]
+    pub fn pair_index(&self, a: usize, b: usize) -> Option<usize> {
+        let (a, b) = if a < b { (a, b) } else { (b, a) };
+        let range = *self.pair_start.get(a)?..*self.pair_start.get(a + 1)?;
+        let start = range.start;
+        self.pairs[range]
+            .binary_search_by_key(&b, |p| p.shape_b)
+            .ok()
+            .map(|k| start + k)
+    }
+
+    /// The link pairs with at least one candidate shape pair, in order of their first pair.
+    #[must_use]
+    pub fn link_pairs(&self) -> &[LinkPair] {
+        &self.link_pairs
+    }
+
+    /// Meshes left out of the model (see [`MissingMeshes`](crate::MissingMeshes)).
+    #[must_use]
+    pub fn skipped_meshes(&self) -> &[SkippedMesh] {
+        &self.skipped
+    }
+
+    /// The disabled link pairs, as sorted `(smaller, larger)` link indices.
+    #[must_use]
+    pub fn disabled_link_pairs(&self) -> &[(usize, usize)] {
+        &self.disabled
+    }
+
+    /// Number of bodies of the model this collision model was built from.
+    #[must_use]
+    pub fn nbodies(&self) -> usize {
+        self.body_parent.len()
+    }
+}

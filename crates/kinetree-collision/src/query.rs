@@ -1,0 +1,383 @@
+//! The queries: any collision (early exit), all colliding pairs with contacts, signed distances
+//! per pair, and the same against world obstacles.
+//!
+//! Every query reads the shape poses of the last
+//! [`CollisionData::update_placements`] / [`CollisionData::compute_placements`] and writes its
+//! results into the [`CollisionData`]. A broad phase (sort and sweep of the shapes' world
+//! bounding boxes along x) finds the pairs whose boxes overlap, so the collision queries run the
+//! exact test on those only; the distance queries need every pair and skip it.
+//!
+//! **Allocation:** none of the queries allocates once the data exists, with these exceptions
+//! inside parry: queries involving a triangle mesh ([`MeshMode::TriMesh`](crate::MeshMode))
+//! go through parry's composite-shape traversal, which keeps a stack in a `Vec`; and the EPA
+//! buffers of [`CollisionData`] grow on the first penetrating convex pairs until they are large
+//! enough (they are reused afterwards).
+
+use crate::data::{CollisionData, Proximity};
+use crate::error::CollisionError;
+use crate::model::CollisionModel;
+use crate::narrow::{Witness, intersects, proximity};
+use core::ops::ControlFlow;
+use kinetree_kinematics::KinematicsData;
+use kinetree_kinematics::model::Model;
+use parry3d_f64::bounding_volume::Aabb;
+
+/// Whether any candidate pair of shapes, or any shape and world obstacle, overlap. Stops at the
+/// first collision found.
+///
+/// # Errors
+/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`] for a pair of shapes parry
+/// cannot test.
+///
+/// # Examples
+/// ```
+/// use kinetree_collision::{any_collision, CollisionData, CollisionModel, CollisionOptions};
+/// use kinetree_collision::kinematics::{configuration, KinematicsData};
+/// use kinetree_collision::kinematics::model::{Model, RootJoint};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"),
+///                    "/../../tests/data/reference/urdf/panda_collision.urdf");
+/// let model = Model::from_urdf_file(path, RootJoint::Fixed)?;
+/// let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default())?;
+/// let mut kinematics = KinematicsData::new(&model);
+/// let mut data = CollisionData::new(&cmodel);
+/// let q = configuration::neutral_configuration(&model);
+/// data.compute_placements(&model, &cmodel, &mut kinematics, &q)?;
+/// // At q = 0 the panda folds its forearm onto the upper arm: links 1 and 3's spheres overlap.
+/// assert!(any_collision(&cmodel, &mut data)?);
+/// # Ok(())
+/// # }
+/// ```
+pub fn any_collision(
+    cmodel: &CollisionModel,
+    data: &mut CollisionData,
+) -> Result<bool, CollisionError> {
+    data.check_model(cmodel)?;
+    let mut result = Ok(false);
+    let world = &data.world_from_shape;
+    let obstacles = &data.obstacles;
+    let n = cmodel.shapes.len();
+    sweep(&mut data.order, &data.aabbs, obstacles, true, |i, j| {
+        let (a, b) = (i.min(j), i.max(j));
+        let outcome = if b < n {
+            if cmodel.pair_index(a, b).is_none() {
+                return ControlFlow::Continue(());
+            }
+            let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
+            intersects(&world[a], &*sa.shape, &world[b], &*sb.shape)
+                .map_err(|_| unsupported(sa.name(), sb.name()))
+        } else {
+            let (s, o) = (&cmodel.shapes[a], obstacle(obstacles, b - n));
+            intersects(&world[a], &*s.shape, &o.pose, &*o.shape)
+                .map_err(|_| unsupported(s.name(), o.name()))
+        };
+        match outcome {
+            Ok(false) => ControlFlow::Continue(()),
+            Ok(true) => {
+                result = Ok(true);
+                ControlFlow::Break(())
+            }
+            Err(e) => {
+                result = Err(e);
+                ControlFlow::Break(())
+            }
+        }
+    });
+    result
+}
+
+/// Every candidate pair of shapes that overlaps, with its contact: the penetration depth as a
+/// negative [`Proximity::distance`] (0 for touching), the deepest points and the normal.
+///
+/// Stored in [`CollisionData::contacts`] (sorted by pair) and returned. World obstacles are not
+/// included (see [`world_collisions`]).
+///
+/// # Errors
+/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
+pub fn self_collisions<'d>(
+    cmodel: &CollisionModel,
+    data: &'d mut CollisionData,
+) -> Result<&'d [Proximity], CollisionError> {
+    data.check_model(cmodel)?;
+    data.contacts.clear();
+    let mut result = Ok(());
+    let world = &data.world_from_shape;
+    let scratch = &mut data.scratch;
+    let contacts = &mut data.contacts;
+    sweep(&mut data.order, &data.aabbs, &[], false, |i, j| {
+        let (a, b) = (i.min(j), i.max(j));
+        if cmodel.pair_index(a, b).is_none() {
+            return ControlFlow::Continue(());
+        }
+        let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
+        match proximity(&world[a], &*sa.shape, &world[b], &*sb.shape, 0.0, scratch) {
+            Ok(Some(w)) => contacts.push(with_ids(w, a, b)),
+            Ok(None) => {}
+            Err(_) => {
+                result = Err(unsupported(sa.name(), sb.name()));
+                return ControlFlow::Break(());
+            }
+        }
+        ControlFlow::Continue(())
+    });
+    result?;
+    data.contacts.sort_unstable_by_key(|c| (c.a, c.b));
+    Ok(&data.contacts)
+}
+
+/// Every shape–obstacle pair that overlaps, with its contact (as in [`self_collisions`];
+/// [`Proximity::b`] is the obstacle's [`ObstacleId`](crate::ObstacleId) index).
+///
+/// Stored in [`CollisionData::world_contacts`] (sorted by shape, then obstacle) and returned.
+///
+/// # Errors
+/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
+pub fn world_collisions<'d>(
+    cmodel: &CollisionModel,
+    data: &'d mut CollisionData,
+) -> Result<&'d [Proximity], CollisionError> {
+    data.check_model(cmodel)?;
+    data.world_contacts.clear();
+    let mut result = Ok(());
+    let n = cmodel.shapes.len();
+    let world = &data.world_from_shape;
+    let obstacles = &data.obstacles;
+    let scratch = &mut data.scratch;
+    let contacts = &mut data.world_contacts;
+    sweep(&mut data.order, &data.aabbs, obstacles, true, |i, j| {
+        let (a, b) = (i.min(j), i.max(j));
+        if b < n {
+            return ControlFlow::Continue(());
+        }
+        let (s, o) = (&cmodel.shapes[a], obstacle(obstacles, b - n));
+        match proximity(&world[a], &*s.shape, &o.pose, &*o.shape, 0.0, scratch) {
+            Ok(Some(w)) => contacts.push(with_ids(w, a, b - n)),
+            Ok(None) => {}
+            Err(_) => {
+                result = Err(unsupported(s.name(), o.name()));
+                return ControlFlow::Break(());
+            }
+        }
+        ControlFlow::Continue(())
+    });
+    result?;
+    data.world_contacts.sort_unstable_by_key(|c| (c.a, c.b));
+    Ok(&data.world_contacts)
+}
+
+/// The signed distance of every candidate pair with its witness points (see [`Proximity`]),
+/// and per link pair the minimum over its shape pairs.
+///
+/// Stored in [`CollisionData::distances`] (pair order) and
+/// [`CollisionData::link_pair_distances`]; the first is returned.
+///
+/// # Errors
+/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
+///
+/// # Examples
+/// ```
+/// use kinetree_collision::{compute_distances, CollisionData, CollisionModel, CollisionOptions};
+/// use kinetree_collision::kinematics::{configuration, KinematicsData};
+/// use kinetree_collision::kinematics::model::{Model, RootJoint};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"),
+///                    "/../../tests/data/reference/urdf/panda_collision.urdf");
+/// let model = Model::from_urdf_file(path, RootJoint::Fixed)?;
+/// let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default())?;
+/// let mut kinematics = KinematicsData::new(&model);
+/// let mut data = CollisionData::new(&cmodel);
+/// data.compute_placements(&model, &cmodel, &mut kinematics,
+///                         &configuration::neutral_configuration(&model))?;
+/// let closest = compute_distances(&cmodel, &mut data)?
+///     .iter()
+///     .min_by(|x, y| x.distance.total_cmp(&y.distance))
+///     .copied();
+/// if let Some(p) = closest {
+///     println!("{} – {}: {:.4} m", cmodel.shapes()[p.a].name(), cmodel.shapes()[p.b].name(), p.distance);
+/// }
+/// # Ok(())
+/// # }
+/// ```
+pub fn compute_distances<'d>(
+    cmodel: &CollisionModel,
+    data: &'d mut CollisionData,
+) -> Result<&'d [Proximity], CollisionError> {
+    data.check_model(cmodel)?;
+    for lp in &mut data.link_pair_distances {
+        lp.distance = f64::INFINITY;
+    }
+    let world = &data.world_from_shape;
+    for (k, pair) in cmodel.pairs.iter().enumerate() {
+        let (a, b) = (pair.shape_a, pair.shape_b);
+        let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
+        let w = proximity(
+            &world[a],
+            &*sa.shape,
+            &world[b],
+            &*sb.shape,
+            f64::INFINITY,
+            &mut data.scratch,
+        )
+        .map_err(|_| unsupported(sa.name(), sb.name()))?
+        .unwrap_or(Witness {
+            distance: f64::INFINITY,
+            point_a: world[a].translation,
+            point_b: world[b].translation,
+            normal: glam::DVec3::X,
+        });
+        data.distances[k] = with_ids(w, a, b);
+        let lp = &mut data.link_pair_distances[pair.link_pair];
+        if w.distance < lp.distance {
+            lp.distance = w.distance;
+            lp.shape_a = a;
+            lp.shape_b = b;
+        }
+    }
+    Ok(&data.distances)
+}
+
+/// The signed distance between every shape and every world obstacle, with witness points
+/// ([`Proximity::b`] is the obstacle index).
+///
+/// Stored in [`CollisionData::world_distances`] (by shape, then obstacle) and returned.
+///
+/// # Errors
+/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
+pub fn compute_world_distances<'d>(
+    cmodel: &CollisionModel,
+    data: &'d mut CollisionData,
+) -> Result<&'d [Proximity], CollisionError> {
+    data.check_model(cmodel)?;
+    data.world_distances.clear();
+    let world = &data.world_from_shape;
+    for (a, s) in cmodel.shapes.iter().enumerate() {
+        for (k, o) in data.obstacles.iter().enumerate() {
+            let Some(o) = o else { continue };
+            let w = proximity(
+                &world[a],
+                &*s.shape,
+                &o.pose,
+                &*o.shape,
+                f64::INFINITY,
+                &mut data.scratch,
+            )
+            .map_err(|_| unsupported(s.name(), o.name()))?;
+            if let Some(w) = w {
+                data.world_distances.push(with_ids(w, a, k));
+            }
+        }
+    }
+    Ok(&data.world_distances)
+}
+
+/// For configuration `q` (length `model.nq()`): forward kinematics, shape placement and
+/// [`compute_distances`], then one `(link_a, link_b, distance)` per candidate link pair, the
+/// minimum signed distance over their shape pairs, in the order of
+/// [`CollisionModel::link_pairs`]. This is the `collision` entry of `kinetree compute` and the
+/// quantity the reference regression compares.
+///
+/// Allocates the returned vector; [`CollisionData::link_pair_distances`] is the
+/// allocation-free form.
+///
+/// # Errors
+/// As [`CollisionData::compute_placements`] and [`compute_distances`].
+pub fn link_pair_distances<'m>(
+    model: &'m Model,
+    cmodel: &CollisionModel,
+    kinematics: &mut KinematicsData,
+    data: &mut CollisionData,
+    q: &[f64],
+) -> Result<Vec<(&'m str, &'m str, f64)>, CollisionError> {
+    data.compute_placements(model, cmodel, kinematics, q)?;
+    compute_distances(cmodel, data)?;
+    Ok(data
+        .link_pair_distances
+        .iter()
+        .map(|d| {
+            (
+                model.link(d.link_a).name.as_str(),
+                model.link(d.link_b).name.as_str(),
+                d.distance,
+            )
+        })
+        .collect())
+}
+
+fn with_ids(w: Witness, a: usize, b: usize) -> Proximity {
+    Proximity {
+        a,
+        b,
+        distance: w.distance,
+        point_a: w.point_a,
+        point_b: w.point_b,
+        normal: w.normal,
+    }
+}
+
+fn unsupported(a: &str, b: &str) -> CollisionError {
+    CollisionError::Unsupported {
+        shape_a: a.to_string(),
+        shape_b: b.to_string(),
+    }
+}
+
+fn obstacle(obstacles: &[Option<crate::data::Obstacle>], k: usize) -> &crate::data::Obstacle {
+    obstacles[k]
+        .as_ref()
+        .unwrap_or_else(|| unreachable!("the sweep only visits live obstacles"))
+}
+
+/// Sort and sweep along x: calls `f(i, j)` for every pair of entries whose boxes overlap, where
+/// entries `0..aabbs.len()` are shapes and `aabbs.len() + k` is obstacle `k` (when
+/// `with_obstacles`). Obstacle–obstacle pairs are not reported. Stops when `f` breaks.
+fn sweep(
+    order: &mut Vec<usize>,
+    aabbs: &[Aabb],
+    obstacles: &[Option<crate::data::Obstacle>],
+    with_obstacles: bool,
+    mut f: impl FnMut(usize, usize) -> ControlFlow<()>,
+) {
+    let n = aabbs.len();
+    let aabb = |i: usize| -> &Aabb {
+        if i < n {
+            &aabbs[i]
+        } else {
+            &obstacles[i - n]
+                .as_ref()
+                .unwrap_or_else(|| unreachable!("only live obstacles are sorted"))
+                .aabb
+        }
+    };
+    order.clear();
+    order.extend(0..n);
+    if with_obstacles {
+        order.extend(
+            obstacles
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| o.is_some())
+                .map(|(k, _)| n + k),
+        );
+    }
+    order.sort_unstable_by(|&i, &j| aabb(i).mins.x.total_cmp(&aabb(j).mins.x));
+    for (k, &i) in order.iter().enumerate() {
+        let bi = aabb(i);
+        for &j in &order[k + 1..] {
+            let bj = aabb(j);
+            if bj.mins.x > bi.maxs.x {
+                break;
+            }
+            if i >= n && j >= n {
+                continue;
+            }
+            if bi.mins.y <= bj.maxs.y
+                && bj.mins.y <= bi.maxs.y
+                && bi.mins.z <= bj.maxs.z
+                && bj.mins.z <= bi.maxs.z
+                && f(i, j).is_break()
+            {
+                return;
+            }
+        }
+    }
+}

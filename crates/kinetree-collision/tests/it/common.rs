@@ -1,0 +1,42 @@
+//! Shared helpers: the panda_collision reference and small inline robots.
+
+use kinetree_collision::kinematics::configuration::{neutral_configuration, set_joint_q};
+use kinetree_collision::kinematics::model::{Model, RootJoint};
+use serde_json::Value;
+use std::path::PathBuf;
+
+pub(crate) fn data_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/data")
+}
+
+/// The panda_collision reference JSON and its model.
+pub(crate) fn panda() -> (Value, Model) {
+    let dir = data_dir().join("reference");
+    let reference: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("panda_collision.json")).unwrap())
+            .unwrap();
+    let model = Model::from_urdf_file(
+        dir.join(reference["urdf"].as_str().unwrap()),
+        RootJoint::Fixed,
+    )
+    .unwrap();
+    (reference, model)
+}
+
+/// Our `q` for a sample's `state.q` (keyed by joint name).
+pub(crate) fn q_of(model: &Model, sample: &Value) -> Vec<f64> {
+    let mut q = neutral_configuration(model);
+    for (name, value) in sample["state"]["q"].as_object().unwrap() {
+        set_joint_q(model, &mut q, name, &[value.as_f64().unwrap()]).unwrap();
+    }
+    q
+}
+
+/// A robot from an inline URDF body (links and joints), fixed to the world.
+pub(crate) fn urdf(body: &str) -> Model {
+    Model::from_urdf_str(
+        &format!("<robot name=\"t\">{body}</robot>"),
+        RootJoint::Fixed,
+    )
+    .unwrap()
+}

@@ -1,0 +1,9 @@
+//! Integration tests of the collision layer.
+
+mod allocation;
+mod common;
+mod hand;
+mod meshes;
+mod reference;
+mod srdf;
+mod world;

@@ -1,0 +1,110 @@
+//! Mesh loading: the unit cube of tests/data/meshes as ASCII STL, binary STL and OBJ.
+
+use crate::common::{data_dir, urdf};
+use kinetree_collision::kinematics::KinematicsData;
+use kinetree_collision::mesh::{parse_stl, read_mesh_file};
+use kinetree_collision::{
+    CollisionData, CollisionError, CollisionModel, CollisionOptions, MeshMode, any_collision,
+    compute_distances,
+};
+
+fn robot(mesh: &str, scale: &str) -> kinetree_collision::kinematics::model::Model {
+    urdf(&format!(
+        r#"<link name="base"/>
+           <link name="a"><collision><geometry><mesh filename="{mesh}" scale="{scale}"/></geometry></collision></link>
+           <link name="b"><collision><geometry><sphere radius="0.25"/></geometry></collision></link>
+           <joint name="ja" type="revolute"><parent link="base"/><child link="a"/>
+             <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+           <joint name="jb" type="prismatic"><parent link="base"/><child link="b"/>
+             <axis xyz="1 0 0"/><limit lower="-10" upper="10" effort="1" velocity="1"/></joint>"#
+    ))
+}
+
+#[test]
+fn stl_ascii_and_binary_read_the_same_cube() {
+    let dir = data_dir().join("meshes");
+    let ascii = read_mesh_file(&dir.join("unit_cube_ascii.stl")).unwrap();
+    let binary = read_mesh_file(&dir.join("unit_cube_binary.stl")).unwrap();
+    let obj = read_mesh_file(&dir.join("unit_cube.obj")).unwrap();
+    for m in [&ascii, &binary, &obj] {
+        assert_eq!(m.vertices.len(), 8);
+        assert_eq!(m.triangles.len(), 12);
+    }
+    assert_eq!(ascii, binary);
+    // The binary file's header starts with "solid": the size decides, not the header.
+    let bytes = std::fs::read(dir.join("unit_cube_binary.stl")).unwrap();
+    assert!(bytes.starts_with(b"solid"));
+    assert_eq!(parse_stl(&bytes).unwrap(), binary);
+}
+
+#[test]
+fn meshes_load_through_search_paths_and_collide() {
+    for (file, mode) in [
+        (
+            "package://kinetree_test/meshes/unit_cube_binary.stl",
+            MeshMode::TriMesh,
+        ),
+        ("meshes/unit_cube_ascii.stl", MeshMode::ConvexHull),
+        (
+            "package://kinetree_test/meshes/unit_cube.obj",
+            MeshMode::ConvexHull,
+        ),
+    ] {
+        // The cube is scaled to 0.4 x 1 x 1 (half-width 0.2 in x): the sphere (radius 0.25)
+        // centred at x collides for x < 0.45.
+        let model = robot(file, "0.4 1 1");
+        let options = CollisionOptions::default()
+            .with_mesh_path(data_dir())
+            .with_mesh_mode(mode);
+        let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+        assert_eq!(cmodel.shapes().len(), 2);
+        let mut kinematics = KinematicsData::new(&model);
+        let mut data = CollisionData::new(&cmodel);
+        for (x, expected) in [(1.0, 0.55), (0.5, 0.05), (0.4, -0.05)] {
+            let mut q = vec![0.0; 2];
+            q[model.joint_q_range(model.joint_index("jb").unwrap()).start] = x;
+            data.compute_placements(&model, &cmodel, &mut kinematics, &q)
+                .unwrap();
+            let d = compute_distances(&cmodel, &mut data).unwrap()[0].distance;
+            assert!((d - expected).abs() < 1e-6, "{file} {mode:?} x = {x}: {d}");
+            assert_eq!(
+                any_collision(&cmodel, &mut data).unwrap(),
+                expected < 0.0,
+                "{file} x = {x}"
+            );
+        }
+    }
+}
+
+#[test]
+fn missing_mesh_is_an_error_naming_the_file_or_skipped() {
+    let model = robot("package://nowhere/missing.stl", "1 1 1");
+    let options = CollisionOptions::default().with_mesh_path(data_dir());
+    match CollisionModel::from_model(&model, &options) {
+        Err(e @ CollisionError::MeshNotFound { .. }) => {
+            assert!(
+                e.to_string().contains("package://nowhere/missing.stl"),
+                "{e}"
+            );
+        }
+        other => panic!("expected MeshNotFound, got {other:?}"),
+    }
+    let cmodel =
+        CollisionModel::from_model(&model, &options.clone().skip_missing_meshes()).unwrap();
+    assert_eq!(cmodel.shapes().len(), 1);
+    assert_eq!(cmodel.skipped_meshes().len(), 1);
+    assert_eq!(
+        cmodel.skipped_meshes()[0].filename,
+        "package://nowhere/missing.stl"
+    );
+    // An unparsable file is an error naming it.
+    let model = robot("reference/README.md", "1 1 1");
+    match CollisionModel::from_model(&model, &options) {
+        Err(e @ CollisionError::MeshParse { .. }) => assert!(e.to_string().contains("README.md")),
+        other => panic!("expected MeshParse, got {other:?}"),
+    }
+    // Ignoring meshes lists them too.
+    let cmodel =
+        CollisionModel::from_model(&model, &options.with_mesh_mode(MeshMode::Ignore)).unwrap();
+    assert_eq!(cmodel.skipped_meshes().len(), 1);
+}

@@ -1,0 +1,116 @@
+//! World obstacles: added, moved and removed at run time.
+
+use crate::common::{panda, q_of};
+use glam::DVec3;
+use kinetree_collision::kinematics::KinematicsData;
+use kinetree_collision::kinematics::model::Geometry;
+use kinetree_collision::kinematics::spatial::Se3;
+use kinetree_collision::parry::math::Pose;
+use kinetree_collision::parry::shape::SharedShape;
+use kinetree_collision::{
+    CollisionData, CollisionError, CollisionModel, CollisionOptions, ObstacleId, any_collision,
+    compute_world_distances, world_collisions,
+};
+
+#[test]
+fn obstacles_collide_and_measure() {
+    let (reference, model) = panda();
+    let options = CollisionOptions::default();
+    let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+    let mut kinematics = KinematicsData::new(&model);
+    let mut data = CollisionData::new(&cmodel);
+    let q = q_of(&model, &reference["samples"][0]);
+    data.compute_placements(&model, &cmodel, &mut kinematics, &q)
+        .unwrap();
+    let self_colliding = any_collision(&cmodel, &mut data).unwrap();
+
+    // A capsule along world z far away: no contact, distances from every shape.
+    let capsule = data
+        .add_obstacle(
+            "post",
+            &Geometry::Capsule {
+                radius: 0.1,
+                length: 1.0,
+            },
+            &Se3::from_translation(DVec3::new(3.0, 0.0, 0.5)),
+            &options,
+        )
+        .unwrap();
+    assert!(world_collisions(&cmodel, &mut data).unwrap().is_empty());
+    let distances = compute_world_distances(&cmodel, &mut data).unwrap();
+    assert_eq!(distances.len(), cmodel.shapes().len());
+    // The base sphere panda_link0_1 (radius 0.09 at (-0.06, 0, 0.06)) is level with the
+    // capsule's segment: distance = 3.06 - 0.09 - 0.1.
+    let base = cmodel.shape_index("panda_link0_1").unwrap();
+    let d = distances.iter().find(|p| p.a == base).unwrap();
+    assert!((d.distance - (3.06 - 0.19)).abs() < 1e-9, "{d:?}");
+    assert_eq!(d.b, capsule.0);
+
+    // A ball moved onto the base sphere: a world contact of depth 0.05.
+    let ball = data
+        .add_obstacle_shape(
+            "ball",
+            SharedShape::ball(0.1),
+            &Pose::translation(5.0, 5.0, 5.0),
+        )
+        .unwrap();
+    data.set_obstacle_pose(ball, &Pose::translation(-0.06, 0.0, 0.06 + 0.14))
+        .unwrap();
+    assert!(any_collision(&cmodel, &mut data).unwrap());
+    let contacts = world_collisions(&cmodel, &mut data).unwrap();
+    let c = contacts
+        .iter()
+        .find(|c| c.a == base && c.b == ball.0)
+        .unwrap();
+    assert!((c.distance + 0.05).abs() < 1e-12, "{c:?}");
+    assert!((c.normal - DVec3::Z).length() < 1e-12);
+
+    // Removing it restores the previous state; ids of the others stay valid.
+    data.remove_obstacle(ball).unwrap();
+    assert_eq!(any_collision(&cmodel, &mut data).unwrap(), self_colliding);
+    assert!(data.obstacle(capsule).is_ok());
+    assert!(matches!(
+        data.set_obstacle_pose(ball, &Pose::IDENTITY),
+        Err(CollisionError::UnknownObstacle { .. })
+    ));
+    assert!(matches!(
+        data.obstacle(ObstacleId(99)),
+        Err(CollisionError::UnknownObstacle { id: 99 })
+    ));
+    let nan = Pose::translation(f64::NAN, 0.0, 0.0);
+    assert!(matches!(
+        data.set_obstacle_pose(capsule, &nan),
+        Err(CollisionError::NonFinite { .. })
+    ));
+    assert!(matches!(
+        data.add_obstacle(
+            "bad",
+            &Geometry::Sphere { radius: -1.0 },
+            &Se3::IDENTITY,
+            &options
+        ),
+        Err(CollisionError::InvalidGeometry { .. })
+    ));
+    data.clear_obstacles();
+    assert_eq!(data.obstacles().count(), 0);
+}
+
+#[test]
+fn mismatched_data_and_bad_q_are_errors() {
+    let (_, model) = panda();
+    let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default()).unwrap();
+    let mut kinematics = KinematicsData::new(&model);
+    let mut data = CollisionData::new(&cmodel);
+    assert!(matches!(
+        data.compute_placements(&model, &cmodel, &mut kinematics, &[0.0; 3]),
+        Err(CollisionError::Kinematics(_))
+    ));
+    let mut fewer = cmodel.clone();
+    fewer
+        .disable_link_pair(&model, "panda_link0", "panda_hand")
+        .unwrap();
+    assert!(matches!(
+        any_collision(&fewer, &mut data),
+        Err(CollisionError::DataMismatch { .. })
+    ));
+}
