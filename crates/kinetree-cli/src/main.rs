@@ -24,6 +24,8 @@ enum Command {
     Inspect(cmd::inspect::Args),
     /// Convert a model between URDF and JSON (formats chosen by the file extensions).
     Convert(cmd::convert::Args),
+    /// Sample where a frame can reach: bounds, reach, volume, manipulability, files and a plot.
+    Workspace(cmd::workspace::Args),
     // Later commands slot in here, one module each: compute, bench, dynamics, ik, workspace,
     // collide, simulate.
 }
@@ -33,6 +35,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Inspect(args) => cmd::inspect::run(&args),
         Command::Convert(args) => cmd::convert::run(&args),
+        Command::Workspace(args) => cmd::workspace::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

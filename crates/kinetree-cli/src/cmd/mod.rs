@@ -2,6 +2,7 @@
 
 pub(crate) mod convert;
 pub(crate) mod inspect;
+pub(crate) mod workspace;
 
 use anyhow::{Context, Result};
 use kinetree::model::{Model, RootJoint};
