@@ -10,6 +10,7 @@ use std::process::ExitCode;
 mod bench;
 mod ci;
 mod corpus;
+mod ik_report;
 mod layers;
 mod regress;
 mod tidy;
@@ -48,6 +49,7 @@ fn try_main() -> Result<()> {
         "corpus" => corpus::run(rest),
         "regress" => regress::run(rest),
         "bench" => bench::run(rest),
+        "ik-report" => ik_report::run(rest),
         "help" | "-h" | "--help" => {
             println!("{USAGE}");
             Ok(())

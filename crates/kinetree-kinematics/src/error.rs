@@ -131,6 +131,14 @@ pub enum KinematicsError {
         /// The name looked up.
         name: String,
     },
+    /// An inverse-kinematics target cannot be used (see [`crate::ik::IkTarget`]).
+    #[error("ik target {index}: {reason}")]
+    InvalidTarget {
+        /// The target's index in the list given to the solver.
+        index: usize,
+        /// Why.
+        reason: &'static str,
+    },
 }
 
 /// Checks the length and finiteness of an input vector.

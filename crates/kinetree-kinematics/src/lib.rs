@@ -54,6 +54,7 @@ mod data;
 mod error;
 mod forward;
 mod group;
+pub mod ik;
 mod jacobian;
 mod joint_model;
 pub mod reachable;

@@ -1,0 +1,1087 @@
+//! [`IkSolver`]: Levenberg–Marquardt on the SE(3) log error with box constraints, random restarts
+//! and a null-space posture objective.
+//!
+//! One step, for the stacked residual `r(q)` of every target (see [`IkTarget`]) and its Jacobian
+//! `J` (exact: the frame Jacobian mapped through the inverse left Jacobian of SO(3)):
+//!
+//! 1. `(JᵀJ + λI) δ = -Jᵀr - JᵀJ z`, `dq = z + δ`, where `z` is the posture step (zero without a
+//!    posture). With `λ → 0` this is the Gauss–Newton step plus `z` projected on the null space of
+//!    `J`. `λ = μ (½|r|² + λ₀)`: large far from the target, vanishing at it, so the last steps
+//!    converge quadratically.
+//! 2. Box constraints: a coordinate at a limit whose step points outwards is frozen and the system
+//!    solved again without it (an active set); the remaining step is projected into the limits.
+//!    Every iterate therefore satisfies the limits.
+//! 3. `q ⊕ dq` on each joint's manifold ([`integrate_joint`]), so quaternions stay unit.
+//! 4. The step is kept if it lowers `½|r|²`; `μ` follows the ratio of the actual to the predicted
+//!    decrease (Nielsen's rule). A try ends on convergence, after
+//!    [`IkParams::max_iterations_per_try`] steps, or when it stalls; the next try starts from a
+//!    seed, `q0`, then random configurations of the moving joints.
+
+use super::analytic::IkSeeder;
+use super::cholesky;
+use super::params::IkParams;
+use super::report::{IkIterate, IkReport, IkStatus};
+use super::target::IkTarget;
+use crate::configuration::{difference_joint, integrate_joint, sampling_range, wrap_angle};
+use crate::data::{FrameId, KinematicsData};
+use crate::error::{KinematicsError, check_vector};
+use crate::forward::{forward_kinematics, update_frame_placements};
+use glam::{DMat3, DQuat, DVec3};
+use kinetree_model::spatial::Se3;
+use kinetree_model::spatial::explog::so3_left_jacobian_inverse;
+use kinetree_model::spatial::rotation::{is_rotation, log3, orthonormalize};
+use kinetree_model::{JointKind, Model};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+use std::f64::consts::PI;
+use std::fmt;
+use std::time::Instant;
+
+/// Bounds of `μ`: below, steps are pure Gauss–Newton; above, the try is stuck.
+const MU_MIN: f64 = 1e-12;
+const MU_MAX: f64 = 1e12;
+
+/// The limits of the configuration coordinate a velocity coordinate drives (infinite when none).
+#[derive(Clone, Copy, Debug)]
+struct DofBound {
+    q: usize,
+    lower: f64,
+    upper: f64,
+}
+
+impl DofBound {
+    #[inline]
+    fn is_bounded(&self) -> bool {
+        self.lower > f64::NEG_INFINITY || self.upper < f64::INFINITY
+    }
+}
+
+/// One target, prepared for a solve, and what the last evaluation found for it.
+#[derive(Clone, Copy, Debug)]
+struct TargetState {
+    body: usize,
+    body_from_frame: Se3,
+    /// `target_R_world`.
+    rot_t: DMat3,
+    position: DVec3,
+    weights: [f64; 6],
+    /// The components with a non-zero weight, and where their rows start in `r`.
+    rows: [usize; 6],
+    nrows: usize,
+    offset: usize,
+    /// From the last evaluation: the frame origin (world) and `log(R_targetᵀ R)`.
+    frame_position: DVec3,
+    phi: DVec3,
+    /// `J_l⁻¹(phi) · target_R_world`: world angular velocity to `d(phi)/dt`.
+    ang_map: DMat3,
+}
+
+impl TargetState {
+    const EMPTY: Self = Self {
+        body: 0,
+        body_from_frame: Se3::IDENTITY,
+        rot_t: DMat3::IDENTITY,
+        position: DVec3::ZERO,
+        weights: [0.0; 6],
+        rows: [0; 6],
+        nrows: 0,
+        offset: 0,
+        frame_position: DVec3::ZERO,
+        phi: DVec3::ZERO,
+        ang_map: DMat3::IDENTITY,
+    };
+}
+
+/// The cost and errors of one configuration.
+#[derive(Clone, Copy, Debug)]
+struct Eval {
+    /// `½|r|²`.
+    e: f64,
+    pos: f64,
+    ori: f64,
+}
+
+impl Eval {
+    const WORST: Self = Self {
+        e: f64::INFINITY,
+        pos: f64::INFINITY,
+        ori: f64::INFINITY,
+    };
+
+    #[inline]
+    fn converged(&self, p: &IkParams) -> bool {
+        self.pos < p.position_tolerance && self.ori < p.orientation_tolerance
+    }
+}
+
+/// Every buffer of a solve, allocated by [`IkSolver::new`].
+#[derive(Clone, Debug)]
+struct Workspace {
+    /// Per body: on the path from the root to a target (its placement is needed).
+    marked: Vec<bool>,
+    /// The marked bodies, in increasing order.
+    path: Vec<usize>,
+    /// Per body: owns a coordinate that moves a target (directly or through a coupled mimic
+    /// follower).
+    owner: Vec<bool>,
+    /// Coupled mimic followers on a path: (body, column of the leader's coordinate, multiplier).
+    followers: Vec<(usize, usize, f64)>,
+    /// The bodies whose joints move in this solve.
+    moving: Vec<usize>,
+    /// The moving velocity coordinates, their body and their index within the joint.
+    dofs: Vec<usize>,
+    dof_body: Vec<usize>,
+    dof_local: Vec<usize>,
+    targets: Vec<TargetState>,
+    ntargets: usize,
+    /// Number of residual rows.
+    m: usize,
+    /// Weighted Jacobian, column-major (column `c` is `jac[c*m..(c+1)*m]`).
+    jac: Vec<f64>,
+    r: Vec<f64>,
+    r_trial: Vec<f64>,
+    /// `Jᵀr` and `JᵀJ` (full, row-major n x n).
+    g: Vec<f64>,
+    h: Vec<f64>,
+    chol: Vec<f64>,
+    rhs: Vec<f64>,
+    step: Vec<f64>,
+    z: Vec<f64>,
+    fixed: Vec<bool>,
+    free: Vec<usize>,
+    dv: Vec<f64>,
+    q: Vec<f64>,
+    q_trial: Vec<f64>,
+    q_best: Vec<f64>,
+    q_start: Vec<f64>,
+}
+
+impl Workspace {
+    fn new(model: &Model, max_targets: usize) -> Self {
+        let (nq, nv, nb) = (model.nq(), model.nv(), model.nbodies());
+        let rows = 6 * max_targets;
+        Self {
+            marked: vec![false; nb],
+            path: Vec::with_capacity(nb),
+            owner: vec![false; nb],
+            followers: Vec::with_capacity(nb),
+            moving: Vec::with_capacity(nb),
+            dofs: Vec::with_capacity(nv),
+            dof_body: Vec::with_capacity(nv),
+            dof_local: Vec::with_capacity(nv),
+            targets: vec![TargetState::EMPTY; max_targets],
+            ntargets: 0,
+            m: 0,
+            jac: vec![0.0; rows * nv],
+            r: vec![0.0; rows],
+            r_trial: vec![0.0; rows],
+            g: vec![0.0; nv],
+            h: vec![0.0; nv * nv],
+            chol: vec![0.0; nv * nv],
+            rhs: vec![0.0; nv],
+            step: vec![0.0; nv],
+            z: vec![0.0; nv],
+            fixed: vec![false; nv],
+            free: Vec::with_capacity(nv),
+            dv: vec![0.0; nv],
+            q: vec![0.0; nq],
+            q_trial: vec![0.0; nq],
+            q_best: vec![0.0; nq],
+            q_start: vec![0.0; nq],
+        }
+    }
+
+    /// Forward kinematics of `q_trial` over the marked bodies, then the residual `r_trial`.
+    fn evaluate(&mut self, model: &Model, data: &mut KinematicsData) -> Eval {
+        let bodies = model.bodies();
+        let q = &self.q_trial;
+        for &i in &self.path {
+            let b = &bodies[i];
+            let local = data.joint_models[i].body_transform(b, q);
+            data.parent_from_body[i] = local;
+            data.world_from_body[i] = if b.parent == 0 {
+                local
+            } else {
+                data.world_from_body[b.parent] * local
+            };
+        }
+        let (mut e, mut pos2, mut ori2) = (0.0f64, 0.0f64, 0.0f64);
+        for t in &mut self.targets[..self.ntargets] {
+            let x = data.world_from_body[t.body] * t.body_from_frame;
+            let dp = t.rot_t * (x.translation - t.position);
+            let phi = log3(&(t.rot_t * x.rotation));
+            t.frame_position = x.translation;
+            t.phi = phi;
+            let c = [dp.x, dp.y, dp.z, phi.x, phi.y, phi.z];
+            let (mut p2, mut o2) = (0.0, 0.0);
+            let rows = &mut self.r_trial[t.offset..t.offset + t.nrows];
+            for (out, &a) in rows.iter_mut().zip(&t.rows[..t.nrows]) {
+                let ca = c[a];
+                if a < 3 {
+                    p2 += ca * ca;
+                } else {
+                    o2 += ca * ca;
+                }
+                *out = t.weights[a] * ca;
+                e += *out * *out;
+            }
+            pos2 = pos2.max(p2);
+            ori2 = ori2.max(o2);
+        }
+        Eval {
+            e: 0.5 * e,
+            pos: pos2.sqrt(),
+            ori: ori2.sqrt(),
+        }
+    }
+
+    /// Makes the trial configuration (and its residual) the current one.
+    #[inline]
+    fn accept(&mut self) {
+        std::mem::swap(&mut self.q, &mut self.q_trial);
+        std::mem::swap(&mut self.r, &mut self.r_trial);
+    }
+
+    /// The weighted residual Jacobian at the current configuration (whose evaluation was the last
+    /// one), then `g = Jᵀr` and `h = JᵀJ`.
+    fn linearize(&mut self, model: &Model, data: &KinematicsData) {
+        let bodies = model.bodies();
+        let m = self.m;
+        let n = self.dofs.len();
+        // Per target, the map from a world angular velocity to d(phi)/dt.
+        for t in &mut self.targets[..self.ntargets] {
+            t.ang_map = so3_left_jacobian_inverse(t.phi) * t.rot_t;
+        }
+        for c in 0..n {
+            let body = self.dof_body[c];
+            let b = &bodies[body];
+            let col = data.world_from_body[body]
+                .act_motion(&data.joint_models[body].subspace_column(self.dof_local[c]));
+            let out = &mut self.jac[c * m..(c + 1) * m];
+            for t in &self.targets[..self.ntargets] {
+                let rows = &mut out[t.offset..t.offset + t.nrows];
+                if body <= t.body && t.body < b.subtree_end {
+                    let v = col.linear + col.angular.cross(t.frame_position);
+                    let lin = t.rot_t * v;
+                    let ang = t.ang_map * col.angular;
+                    let comp = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
+                    for (o, &a) in rows.iter_mut().zip(&t.rows[..t.nrows]) {
+                        *o = t.weights[a] * comp[a];
+                    }
+                } else {
+                    rows.fill(0.0);
+                }
+            }
+        }
+        // A coupled mimic follower adds its own motion, scaled, to its leader's column.
+        for &(body, c, multiplier) in &self.followers {
+            let b = &bodies[body];
+            let col = data.world_from_body[body]
+                .act_motion(&data.joint_models[body].subspace_column(0))
+                * multiplier;
+            let out = &mut self.jac[c * m..(c + 1) * m];
+            for t in &self.targets[..self.ntargets] {
+                if body <= t.body && t.body < b.subtree_end {
+                    let v = col.linear + col.angular.cross(t.frame_position);
+                    let lin = t.rot_t * v;
+                    let ang = t.ang_map * col.angular;
+                    let comp = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
+                    let rows = &mut out[t.offset..t.offset + t.nrows];
+                    for (o, &a) in rows.iter_mut().zip(&t.rows[..t.nrows]) {
+                        *o += t.weights[a] * comp[a];
+                    }
+                }
+            }
+        }
+        let jac = &self.jac[..n * m];
+        let r = &self.r[..m];
+        for i in 0..n {
+            let ci = &jac[i * m..(i + 1) * m];
+            self.g[i] = dot(ci, r);
+            for j in 0..=i {
+                let v = dot(ci, &jac[j * m..(j + 1) * m]);
+                self.h[i * n + j] = v;
+                self.h[j * n + i] = v;
+            }
+        }
+    }
+}
+
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// A boxed iterate observer (see [`IkSolver::set_observer`]).
+type Observer = Box<dyn FnMut(&IkIterate<'_>) + Send>;
+
+/// The inverse-kinematics solver: built once per model, it owns every buffer, so a solve
+/// allocates nothing.
+///
+/// See the [module docs](super) for the method and an example. By default only the joints on the
+/// paths from the root to the target frames move ([`set_moving_joints`](Self::set_moving_joints)
+/// narrows that); every iterate respects the position limits of the moving joints.
+pub struct IkSolver {
+    params: IkParams,
+    nq: usize,
+    nv: usize,
+    nbodies: usize,
+    nlinks: usize,
+    nframes: usize,
+    /// Per body: whether its joint may move.
+    allowed: Vec<bool>,
+    /// Per velocity coordinate: the limits of the coordinate it drives.
+    bounds: Vec<DofBound>,
+    posture: Vec<f64>,
+    posture_gain: f64,
+    rng: SmallRng,
+    seeder: Option<Box<dyn IkSeeder + Send>>,
+    observer: Option<Observer>,
+    ws: Workspace,
+}
+
+impl fmt::Debug for IkSolver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("IkSolver")
+            .field("params", &self.params)
+            .field("nq", &self.nq)
+            .field("nv", &self.nv)
+            .field("posture_gain", &self.posture_gain)
+            .field("has_seeder", &self.seeder.is_some())
+            .field("has_observer", &self.observer.is_some())
+            .finish_non_exhaustive()
+    }
+}
+
+impl IkSolver {
+    /// A solver for `model` with `params`; allocates every buffer a solve needs (for up to
+    /// `params.max_targets` targets, at least 1).
+    #[must_use]
+    pub fn new(model: &Model, mut params: IkParams) -> Self {
+        params.max_targets = params.max_targets.max(1);
+        let mut bounds = vec![
+            DofBound {
+                q: 0,
+                lower: f64::NEG_INFINITY,
+                upper: f64::INFINITY,
+            };
+            model.nv()
+        ];
+        for b in model.bodies().iter().skip(1) {
+            let Some(j) = b.joint else { continue };
+            let lim = &model.joint(j).limits;
+            // Placeholder limits (lower == upper, as some URDFs write for unlimited joints) are
+            // treated as no limits, as the random sampling does.
+            if b.kind.has_position_limits() && lim.lower < lim.upper {
+                for k in 0..b.nv {
+                    bounds[b.idx_v + k] = DofBound {
+                        q: b.idx_q + k,
+                        lower: lim.lower,
+                        upper: lim.upper,
+                    };
+                }
+            }
+        }
+        Self {
+            nq: model.nq(),
+            nv: model.nv(),
+            nbodies: model.nbodies(),
+            nlinks: model.links().len(),
+            nframes: model.frames().len(),
+            allowed: vec![true; model.nbodies()],
+            bounds,
+            posture: vec![0.0; model.nq()],
+            posture_gain: 0.0,
+            rng: SmallRng::seed_from_u64(params.seed),
+            seeder: None,
+            observer: None,
+            ws: Workspace::new(model, params.max_targets),
+            params,
+        }
+    }
+
+    /// The parameters.
+    #[must_use]
+    pub fn params(&self) -> &IkParams {
+        &self.params
+    }
+
+    /// Replaces the parameters (reallocates the buffers when `max_targets` grows).
+    pub fn set_params(&mut self, model: &Model, mut params: IkParams) {
+        params.max_targets = params.max_targets.max(1);
+        if params.max_targets != self.params.max_targets {
+            self.ws = Workspace::new(model, params.max_targets);
+        }
+        self.params = params;
+    }
+
+    /// Lets only the named joints move (always further restricted to the joints on the paths to
+    /// the targets). Names of fixed joints are accepted and ignored.
+    ///
+    /// # Errors
+    /// [`KinematicsError::UnknownJoint`] for a name that is not a joint of `model`;
+    /// [`KinematicsError::DataMismatch`] when `model` is not the solver's model.
+    pub fn set_moving_joints<S: AsRef<str>>(
+        &mut self,
+        model: &Model,
+        joints: &[S],
+    ) -> Result<(), KinematicsError> {
+        self.check_model(model)?;
+        let mut allowed = vec![false; model.nbodies()];
+        for name in joints {
+            let name = name.as_ref();
+            let j = model
+                .joint_index(name)
+                .ok_or_else(|| KinematicsError::UnknownJoint {
+                    name: name.to_string(),
+                })?;
+            if let Some(b) = model.joint_body(j) {
+                allowed[b] = true;
+            }
+        }
+        self.allowed = allowed;
+        Ok(())
+    }
+
+    /// Lets every joint on the paths to the targets move again (the default).
+    pub fn move_all_joints(&mut self) {
+        self.allowed.fill(true);
+    }
+
+    /// Sets a posture objective: each step also moves the configuration a fraction `gain` (per
+    /// step, in `[0, 1]`) of the way towards `q_posture` (length `model.nq()`), in the null space
+    /// of the targets. Among the many solutions of a redundant arm this picks one near the
+    /// posture; it never prevents convergence.
+    ///
+    /// # Errors
+    /// [`KinematicsError::DimensionMismatch`] / [`KinematicsError::NonFinite`] for a bad
+    /// `q_posture` or `gain`; [`KinematicsError::DataMismatch`] for another model.
+    pub fn set_posture(
+        &mut self,
+        model: &Model,
+        q_posture: &[f64],
+        gain: f64,
+    ) -> Result<(), KinematicsError> {
+        self.check_model(model)?;
+        check_vector("q_posture", q_posture, self.nq)?;
+        if !gain.is_finite() {
+            return Err(KinematicsError::NonFinite {
+                what: "posture gain",
+                index: 0,
+            });
+        }
+        self.posture.copy_from_slice(q_posture);
+        crate::configuration::normalize(model, &mut self.posture)?;
+        self.posture_gain = gain.clamp(0.0, 1.0);
+        Ok(())
+    }
+
+    /// Removes the posture objective.
+    pub fn clear_posture(&mut self) {
+        self.posture_gain = 0.0;
+    }
+
+    /// Installs a seeder (e.g. an analytic solver) whose configurations are tried first (see
+    /// [`IkSeeder`]).
+    pub fn set_seeder(&mut self, seeder: impl IkSeeder + Send + 'static) {
+        self.seeder = Some(Box::new(seeder));
+    }
+
+    /// Removes the seeder.
+    pub fn clear_seeder(&mut self) {
+        self.seeder = None;
+    }
+
+    /// Installs an observer, called with the start of every try and every accepted step (for
+    /// debugging, plotting or progress). Without one, nothing is called.
+    pub fn set_observer(&mut self, observer: impl FnMut(&IkIterate<'_>) + Send + 'static) {
+        self.observer = Some(Box::new(observer));
+    }
+
+    /// Removes the observer.
+    pub fn clear_observer(&mut self) {
+        self.observer = None;
+    }
+
+    fn check_model(&self, model: &Model) -> Result<(), KinematicsError> {
+        if model.nq() != self.nq
+            || model.nv() != self.nv
+            || model.nbodies() != self.nbodies
+            || model.links().len() != self.nlinks
+            || model.frames().len() != self.nframes
+        {
+            return Err(KinematicsError::DataMismatch {
+                data_bodies: self.nbodies,
+                data_nv: self.nv,
+                model_bodies: model.nbodies(),
+                model_nv: model.nv(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Solves for one target from `q0` (length `model.nq()`). See
+    /// [`solve_targets`](Self::solve_targets).
+    ///
+    /// # Errors
+    /// As [`solve_targets`](Self::solve_targets).
+    pub fn solve(
+        &mut self,
+        model: &Model,
+        data: &mut KinematicsData,
+        target: &IkTarget,
+        q0: &[f64],
+    ) -> Result<IkReport<'_>, KinematicsError> {
+        self.solve_targets(model, data, std::slice::from_ref(target), q0)
+    }
+
+    /// Finds a configuration that puts every target's frame on its pose, starting from `q0`
+    /// (length `model.nq()`), within the parameters' budgets. Allocates nothing.
+    ///
+    /// `q0` is normalised (quaternions) and clamped into the limits of the moving joints; joints
+    /// that do not move keep their `q0` value. On return `data` holds the forward kinematics (and
+    /// frame placements) of `report.q`. Not converging is reported in
+    /// [`IkReport::status`], not as an error.
+    ///
+    /// # Errors
+    /// - [`KinematicsError::DimensionMismatch`] / [`KinematicsError::NonFinite`]: `q0` has the
+    ///   wrong length or a NaN; more targets than [`IkParams::max_targets`]; a target pose or
+    ///   weight is not finite.
+    /// - [`KinematicsError::UnknownFrame`]: a target's frame is not in `model`.
+    /// - [`KinematicsError::InvalidTarget`]: no target, a target rotation that is not a rotation
+    ///   matrix, a negative weight, or every weight zero.
+    /// - [`KinematicsError::DataMismatch`]: `model` or `data` is not the solver's model.
+    pub fn solve_targets(
+        &mut self,
+        model: &Model,
+        data: &mut KinematicsData,
+        targets: &[IkTarget],
+        q0: &[f64],
+    ) -> Result<IkReport<'_>, KinematicsError> {
+        let started = Instant::now();
+        self.check_model(model)?;
+        data.check_model(model)?;
+        check_vector("q0", q0, self.nq)?;
+        self.prepare(model, targets)?;
+        let Self {
+            params,
+            bounds,
+            posture,
+            posture_gain,
+            rng,
+            seeder,
+            observer,
+            ws,
+            ..
+        } = self;
+        let params = &*params;
+        ws.q_start.copy_from_slice(q0);
+        crate::configuration::normalize(model, &mut ws.q_start)?;
+        clamp_moving(bounds, &ws.dofs, &mut ws.q_start);
+        *rng = SmallRng::seed_from_u64(params.seed);
+        let deadline = params
+            .time_budget
+            .and_then(|budget| started.checked_add(budget));
+        let posture = (*posture_gain > 0.0).then_some((&posture[..], *posture_gain));
+
+        let mut total = 0usize;
+        let mut attempt = 0usize;
+        let mut seed_index = 0usize;
+        let mut seeding = seeder.is_some();
+        let mut q0_used = false;
+        let mut best = Eval::WORST;
+        let mut first = Eval::WORST;
+        let mut converged = false;
+        loop {
+            // The start of this try: the next seed, then q0, then a random configuration.
+            ws.q_trial.copy_from_slice(&ws.q_start);
+            let mut chosen = false;
+            if seeding {
+                if let Some(s) = seeder.as_mut()
+                    && s.seed(model, targets, seed_index, &mut ws.q_trial)
+                {
+                    seed_index += 1;
+                    let usable = ws.q_trial.len() == ws.q_start.len()
+                        && ws.q_trial.iter().all(|x| x.is_finite())
+                        && crate::configuration::normalize(model, &mut ws.q_trial).is_ok();
+                    if usable {
+                        clamp_moving(bounds, &ws.dofs, &mut ws.q_trial);
+                    } else {
+                        ws.q_trial.copy_from_slice(&ws.q_start);
+                    }
+                    chosen = true;
+                } else {
+                    seeding = false;
+                    ws.q_trial.copy_from_slice(&ws.q_start);
+                }
+            }
+            if !chosen {
+                if q0_used {
+                    random_start(model, bounds, &ws.moving, rng, &mut ws.q_trial);
+                } else {
+                    q0_used = true;
+                }
+            }
+            let mut cur = ws.evaluate(model, data);
+            ws.accept();
+            debug_assert!(within_limits(bounds, &ws.dofs, &ws.q));
+            if attempt == 0 {
+                first = cur;
+            }
+            if cur.e < best.e {
+                best = cur;
+                ws.q_best.copy_from_slice(&ws.q);
+            }
+            if let Some(obs) = observer.as_mut() {
+                obs(&IkIterate {
+                    attempt,
+                    iteration: 0,
+                    q: &ws.q,
+                    position_error: cur.pos,
+                    orientation_error: cur.ori,
+                });
+            }
+            if cur.converged(params) {
+                converged = true;
+                break;
+            }
+            let mut out_of_budget = ws.dofs.is_empty();
+            let mut mu = params.damping;
+            let mut nu = 2.0;
+            let mut slow = 0usize;
+            let mut it = 0usize;
+            let mut linearized = false;
+            while !out_of_budget {
+                if total >= params.max_iterations {
+                    out_of_budget = true;
+                    break;
+                }
+                if it >= params.max_iterations_per_try {
+                    break;
+                }
+                if total % 4 == 0
+                    && let Some(d) = deadline
+                    && Instant::now() >= d
+                {
+                    out_of_budget = true;
+                    break;
+                }
+                if !linearized {
+                    ws.linearize(model, data);
+                    linearized = true;
+                }
+                let lambda = mu * (cur.e + params.damping_floor);
+                it += 1;
+                total += 1;
+                let Some(predicted) = step(ws, model, bounds, params, lambda, posture) else {
+                    // Not numerically positive definite: damp more.
+                    mu *= 10.0;
+                    if mu > MU_MAX {
+                        break;
+                    }
+                    continue;
+                };
+                let trial = ws.evaluate(model, data);
+                if trial.e < cur.e {
+                    let rho = if predicted > 0.0 {
+                        (cur.e - trial.e) / predicted
+                    } else {
+                        1.0
+                    };
+                    let f = 1.0 - (2.0 * rho - 1.0).powi(3);
+                    mu = (mu * f.max(1.0 / 3.0)).max(MU_MIN);
+                    nu = 2.0;
+                    if trial.e > (1.0 - params.min_progress) * cur.e {
+                        slow += 1;
+                    } else {
+                        slow = 0;
+                    }
+                    ws.accept();
+                    debug_assert!(within_limits(bounds, &ws.dofs, &ws.q));
+                    cur = trial;
+                    linearized = false;
+                    if cur.e < best.e {
+                        best = cur;
+                        ws.q_best.copy_from_slice(&ws.q);
+                    }
+                    if let Some(obs) = observer.as_mut() {
+                        obs(&IkIterate {
+                            attempt,
+                            iteration: it,
+                            q: &ws.q,
+                            position_error: cur.pos,
+                            orientation_error: cur.ori,
+                        });
+                    }
+                    if cur.converged(params) {
+                        converged = true;
+                        break;
+                    }
+                    if slow >= params.patience {
+                        break;
+                    }
+                } else {
+                    mu *= nu;
+                    nu *= 2.0;
+                    if mu > MU_MAX {
+                        break;
+                    }
+                }
+            }
+            if converged || out_of_budget || attempt >= params.max_restarts {
+                break;
+            }
+            if let Some(d) = deadline
+                && Instant::now() >= d
+            {
+                break;
+            }
+            attempt += 1;
+        }
+
+        // Continuous joints read better in (-π, π]; the pose does not change.
+        for &b in &ws.moving {
+            let body = &model.bodies()[b];
+            if body.kind == JointKind::Continuous {
+                ws.q_best[body.idx_q] = wrap_angle(ws.q_best[body.idx_q]);
+            }
+        }
+        forward_kinematics(model, data, &ws.q_best)?;
+        update_frame_placements(model, data)?;
+        let status = if converged {
+            IkStatus::Converged
+        } else if best.e < first.e {
+            IkStatus::BestEffort {
+                residual: (2.0 * best.e).sqrt(),
+            }
+        } else {
+            IkStatus::Failed
+        };
+        Ok(IkReport {
+            status,
+            iterations: total,
+            restarts: attempt,
+            position_error: best.pos,
+            orientation_error: best.ori,
+            elapsed: started.elapsed(),
+            q: &ws.q_best,
+        })
+    }
+
+    /// Validates the targets and prepares the per-solve structure: target rows, the bodies to
+    /// sweep and the moving coordinates.
+    fn prepare(&mut self, model: &Model, targets: &[IkTarget]) -> Result<(), KinematicsError> {
+        let ws = &mut self.ws;
+        if targets.is_empty() {
+            return Err(KinematicsError::InvalidTarget {
+                index: 0,
+                reason: "no target given",
+            });
+        }
+        if targets.len() > self.params.max_targets {
+            return Err(KinematicsError::DimensionMismatch {
+                what: "targets (IkParams::max_targets)",
+                expected: self.params.max_targets,
+                actual: targets.len(),
+            });
+        }
+        ws.marked.fill(false);
+        let bodies = model.bodies();
+        let mut m = 0;
+        for (index, t) in targets.iter().enumerate() {
+            let known = match t.frame {
+                FrameId::Link(l) => l < model.links().len(),
+                FrameId::Frame(f) => f < model.frames().len(),
+            };
+            if !known {
+                return Err(KinematicsError::UnknownFrame {
+                    name: format!("{:?}", t.frame),
+                });
+            }
+            if !t.pose.is_finite() {
+                return Err(KinematicsError::NonFinite {
+                    what: "target pose",
+                    index,
+                });
+            }
+            if t.weights.iter().any(|w| !w.is_finite()) {
+                return Err(KinematicsError::NonFinite {
+                    what: "target weights",
+                    index,
+                });
+            }
+            if t.weights.iter().any(|w| *w < 0.0) {
+                return Err(KinematicsError::InvalidTarget {
+                    index,
+                    reason: "a weight is negative",
+                });
+            }
+            if !is_rotation(&t.pose.rotation, 1e-6) {
+                return Err(KinematicsError::InvalidTarget {
+                    index,
+                    reason: "the pose's rotation is not a rotation matrix",
+                });
+            }
+            let (body, body_from_frame) = t.frame.body(model);
+            let mut s = TargetState {
+                body,
+                body_from_frame,
+                rot_t: orthonormalize(&t.pose.rotation).transpose(),
+                position: t.pose.translation,
+                weights: t.weights,
+                offset: m,
+                ..TargetState::EMPTY
+            };
+            for (a, w) in t.weights.iter().enumerate() {
+                if *w != 0.0 {
+                    s.rows[s.nrows] = a;
+                    s.nrows += 1;
+                }
+            }
+            if s.nrows == 0 {
+                return Err(KinematicsError::InvalidTarget {
+                    index,
+                    reason: "every weight is zero",
+                });
+            }
+            m += s.nrows;
+            ws.targets[index] = s;
+            let mut b = body;
+            while b != 0 && !ws.marked[b] {
+                ws.marked[b] = true;
+                b = bodies[b].parent;
+            }
+        }
+        ws.ntargets = targets.len();
+        ws.m = m;
+        ws.path.clear();
+        ws.moving.clear();
+        ws.dofs.clear();
+        ws.dof_body.clear();
+        ws.dof_local.clear();
+        ws.followers.clear();
+        // The coordinates that move a target: those of the marked bodies, and the leaders of
+        // marked coupled mimic followers.
+        ws.owner.copy_from_slice(&ws.marked);
+        for (i, b) in bodies.iter().enumerate().skip(1) {
+            if ws.marked[i]
+                && let Some(mimic) = &b.mimic
+                && let Some(leader) = model.joint_body(mimic.leader)
+            {
+                ws.owner[leader] = true;
+            }
+        }
+        for (i, b) in bodies.iter().enumerate().skip(1) {
+            if ws.marked[i] {
+                ws.path.push(i);
+            }
+            if ws.owner[i] && self.allowed[i] && b.nv > 0 {
+                ws.moving.push(i);
+                for k in 0..b.nv {
+                    ws.dofs.push(b.idx_v + k);
+                    ws.dof_body.push(i);
+                    ws.dof_local.push(k);
+                }
+            }
+        }
+        for (i, b) in bodies.iter().enumerate().skip(1) {
+            if ws.marked[i]
+                && let Some(mimic) = &b.mimic
+                && let Some(c) = ws.dofs.iter().position(|&d| d == b.idx_v)
+            {
+                ws.followers.push((i, c, mimic.multiplier));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Clamps the bounded moving coordinates of `q` into their limits.
+fn clamp_moving(bounds: &[DofBound], dofs: &[usize], q: &mut [f64]) {
+    for &d in dofs {
+        let b = &bounds[d];
+        if b.is_bounded() {
+            q[b.q] = q[b.q].clamp(b.lower, b.upper);
+        }
+    }
+}
+
+/// Whether the bounded moving coordinates of `q` are within their limits.
+fn within_limits(bounds: &[DofBound], dofs: &[usize], q: &[f64]) -> bool {
+    dofs.iter().all(|&d| {
+        let b = &bounds[d];
+        q[b.q] >= b.lower && q[b.q] <= b.upper || !b.is_bounded()
+    })
+}
+
+/// Computes the step at the current configuration for damping `lambda` and writes
+/// `q_trial = clamp(q ⊕ dq)`. Returns the decrease of `½|r|²` the linear model predicts, or
+/// `None` when the system is not numerically positive definite.
+fn step(
+    ws: &mut Workspace,
+    model: &Model,
+    bounds: &[DofBound],
+    params: &IkParams,
+    lambda: f64,
+    posture: Option<(&[f64], f64)>,
+) -> Option<f64> {
+    let n = ws.dofs.len();
+    let bodies = model.bodies();
+    // The posture step z, on the moving coordinates.
+    ws.z[..n].fill(0.0);
+    if let Some((qp, gain)) = posture {
+        for &b in &ws.moving {
+            let body = &bodies[b];
+            let (qs, vs) = (
+                body.idx_q..body.idx_q + body.nq,
+                body.idx_v..body.idx_v + body.nv,
+            );
+            difference_joint(body.kind, &ws.q[qs.clone()], &qp[qs], &mut ws.dv[vs]);
+        }
+        for c in 0..n {
+            ws.z[c] = gain * ws.dv[ws.dofs[c]];
+        }
+    }
+    // Active set: freeze coordinates at a limit whose step points outwards.
+    ws.fixed[..n].fill(false);
+    let h = &ws.h[..n * n];
+    for _round in 0..=n {
+        ws.free.clear();
+        for c in 0..n {
+            if !ws.fixed[c] {
+                ws.free.push(c);
+            }
+        }
+        let f = ws.free.len();
+        // rhs = -(g + H z) on the free coordinates.
+        for (a, &i) in ws.free.iter().enumerate() {
+            ws.rhs[a] = -(ws.g[i] + dot(&h[i * n..(i + 1) * n], &ws.z[..n]));
+        }
+        let chol = &mut ws.chol[..f * f];
+        for (a, &i) in ws.free.iter().enumerate() {
+            for (b, &j) in ws.free[..=a].iter().enumerate() {
+                chol[a * f + b] = h[i * n + j];
+            }
+            chol[a * f + a] += lambda;
+        }
+        if !cholesky::factor(chol, f) {
+            return None;
+        }
+        cholesky::solve(chol, f, &mut ws.rhs[..f]);
+        ws.step[..n].copy_from_slice(&ws.z[..n]);
+        for (a, &i) in ws.free.iter().enumerate() {
+            ws.step[i] += ws.rhs[a];
+        }
+        let mut again = false;
+        for &i in &ws.free {
+            let b = &bounds[ws.dofs[i]];
+            if b.is_bounded() {
+                let x = ws.q[b.q];
+                if (x <= b.lower && ws.step[i] < 0.0) || (x >= b.upper && ws.step[i] > 0.0) {
+                    ws.fixed[i] = true;
+                    ws.z[i] = 0.0;
+                    again = true;
+                }
+            }
+        }
+        if !again {
+            break;
+        }
+        for c in 0..n {
+            if ws.fixed[c] {
+                ws.step[c] = 0.0;
+            }
+        }
+    }
+    for c in 0..n {
+        if ws.fixed[c] {
+            ws.step[c] = 0.0;
+        }
+    }
+    let largest = ws.step[..n].iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    if largest > params.max_step {
+        let s = params.max_step / largest;
+        for x in &mut ws.step[..n] {
+            *x *= s;
+        }
+    }
+    // q_trial = clamp(q ⊕ dq).
+    ws.q_trial.copy_from_slice(&ws.q);
+    for c in 0..n {
+        ws.dv[ws.dofs[c]] = ws.step[c];
+    }
+    for &b in &ws.moving {
+        let body = &bodies[b];
+        let (qs, vs) = (
+            body.idx_q..body.idx_q + body.nq,
+            body.idx_v..body.idx_v + body.nv,
+        );
+        integrate_joint(
+            body.kind,
+            &ws.q[qs.clone()],
+            &ws.dv[vs],
+            &mut ws.q_trial[qs],
+        );
+    }
+    // The step actually taken (projection included), and the decrease the model predicts.
+    for c in 0..n {
+        let b = &bounds[ws.dofs[c]];
+        if b.is_bounded() {
+            let x = ws.q_trial[b.q].clamp(b.lower, b.upper);
+            ws.q_trial[b.q] = x;
+            ws.step[c] = x - ws.q[b.q];
+        }
+    }
+    let d = &ws.step[..n];
+    let mut quad = 0.0;
+    for i in 0..n {
+        quad += d[i] * dot(&h[i * n..(i + 1) * n], d);
+    }
+    Some(-(dot(&ws.g[..n], d) + 0.5 * quad))
+}
+
+/// Draws a random start for the moving joints: uniform within the limits (a 2π window for
+/// angles with wider limits, [-π, π] for continuous joints), uniform rotations for spherical
+/// joints; planar and floating joints keep their value.
+fn random_start(
+    model: &Model,
+    _bounds: &[DofBound],
+    moving: &[usize],
+    rng: &mut SmallRng,
+    q: &mut [f64],
+) {
+    let bodies = model.bodies();
+    for &b in moving {
+        let body = &bodies[b];
+        let lim = &model.joint(body.joint.unwrap_or(0)).limits;
+        let qi = &mut q[body.idx_q..body.idx_q + body.nq];
+        match body.kind {
+            JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic => {
+                qi[0] = sample(body.kind, lim.lower, lim.upper, rng);
+            }
+            JointKind::Cylindrical => {
+                qi[0] = sample(JointKind::Prismatic, lim.lower, lim.upper, rng);
+                qi[1] = sample(JointKind::Revolute, lim.lower, lim.upper, rng);
+            }
+            JointKind::Spherical => qi.copy_from_slice(&random_quat(rng).to_array()),
+            JointKind::Fixed | JointKind::Planar | JointKind::Floating => {}
+        }
+    }
+}
+
+fn sample(kind: JointKind, lower: f64, upper: f64, rng: &mut SmallRng) -> f64 {
+    let (mut lo, mut hi) = sampling_range(kind, lower, upper);
+    if kind != JointKind::Prismatic && hi - lo > 2.0 * PI {
+        let c = 0.0f64.clamp(lo + PI, hi - PI);
+        (lo, hi) = (c - PI, c + PI);
+    }
+    lo + (hi - lo) * rng.random::<f64>()
+}
+
+/// Shoemake's uniform unit quaternion.
+fn random_quat(rng: &mut SmallRng) -> DQuat {
+    let (u1, u2, u3): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
+    let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+    let (t2, t3) = (2.0 * PI * u2, 2.0 * PI * u3);
+    DQuat::from_xyzw(a * t2.sin(), a * t2.cos(), b * t3.sin(), b * t3.cos())
+}
