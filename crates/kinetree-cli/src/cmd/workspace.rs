@@ -641,7 +641,7 @@ fn plot_svg(set: &ReachableSet, summary: &Summary) -> String {
     );
     let _ = writeln!(
         s,
-        r##"<text x="{LEFT}" y="{}" font-size="13" fill="#333">Each {CELL}-pixel cell ({:.3} m) shows the highest manipulability among the samples seen through it; white: never reached.</text><text x="{LEFT}" y="{}" font-size="13" fill="#333">Dashed red: the sphere of maximum reach around the base (red cross). Joint limits only: no self-collision or floor checks.</text>"##,
+        r##"<text x="{LEFT}" y="{}" font-size="13" fill="#333">Each {CELL}-pixel cell ({:.3} m) shows the highest manipulability among the samples seen through it; white: never reached.</text><text x="{LEFT}" y="{}" font-size="13" fill="#333">Dashed red: the sphere of maximum reach around the base point (red cross). Joint limits only: no self-collision or floor checks.</text>"##,
         TOP + PANEL + 72.0,
         CELL / scale,
         TOP + PANEL + 92.0
