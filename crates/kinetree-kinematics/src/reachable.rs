@@ -8,9 +8,10 @@
 //! - [`Sampling::Random`]: uniform within the limits (as
 //!   [`random_configuration`]), from a seed.
 //!
-//! **Which joints move.** Only the joints on the path from the root to the frame are sampled;
-//! every other coordinate keeps its value in [`ReachableParams::q0`] (the neutral configuration
-//! by default), since it cannot move the frame. Floating joints (such as the `root_joint` of
+//! **Which joints move.** Only the joints on the path from the root to the frame are sampled
+//! (for a coupled mimic joint on the path, its leader); every other coordinate keeps its value in
+//! [`ReachableParams::q0`] (the neutral configuration by default), since it cannot move the
+//! frame. Floating joints (such as the `root_joint` of
 //! [`RootJoint::Floating`](kinetree_model::RootJoint::Floating)) are never sampled: they are held
 //! at `q0`, so the cloud is expressed relative to the base placed there. Ranges: finite position
 //! limits are used as they are; joints without finite limits use
@@ -349,7 +350,20 @@ impl Plan {
         path.reverse();
         let (mut joints, mut axes, mut dofs, mut names) = (Vec::new(), Vec::new(), vec![], vec![]);
         let mut sampled = vec![false; model.nq()];
+        let mut done: Vec<usize> = Vec::new();
         for &i in &path {
+            // A coupled mimic follower owns no coordinate: its leader's moves it.
+            let i = match bodies[i].mimic {
+                Some(m) => match model.joint_body(m.leader) {
+                    Some(leader) => leader,
+                    None => continue,
+                },
+                None => i,
+            };
+            if done.contains(&i) {
+                continue;
+            }
+            done.push(i);
             let b = &bodies[i];
             let Some(j) = b.joint else { continue };
             let lim = &model.joint(j).limits;

@@ -387,3 +387,29 @@ fn bad_inputs_are_typed_errors() {
         Err(ReachableError::NonFinite { what: "base" })
     ));
 }
+
+#[test]
+fn a_coupled_mimic_follower_is_moved_by_its_leader() {
+    use kinetree_kinematics::model::{LoadOptions, MimicMode};
+    let path = reference_dir().join("../robots/panda.urdf");
+    let options = LoadOptions {
+        mimic: MimicMode::Coupled,
+        ..LoadOptions::from(RootJoint::Fixed)
+    };
+    let panda = Model::from_urdf_file_with(&path, &options).unwrap();
+    let independent = Model::from_urdf_file(&path, RootJoint::Fixed).unwrap();
+    let params = ReachableParams::grid(2);
+    // The right finger follows the left one: sampling it samples panda_finger_joint1.
+    let run = |m: &Model| {
+        sample_reachable(m, FrameId::find(m, "panda_rightfinger").unwrap(), &params).unwrap()
+    };
+    let (coupled, free) = (run(&panda), run(&independent));
+    assert_eq!(coupled.joints().len(), 8, "{:?}", coupled.joints());
+    assert_eq!(coupled.joints()[7], "panda_finger_joint1");
+    assert_eq!(free.joints()[7], "panda_finger_joint2");
+    // Same multiplier 1 and offset 0: the same clouds (the fingers' ranges are equal).
+    assert!(coupled.bounds().min.distance(free.bounds().min) < 1e-12);
+    assert!(coupled.bounds().max.distance(free.bounds().max) < 1e-12);
+    let (a, b) = (coupled.manipulability(), free.manipulability());
+    assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12));
+}
