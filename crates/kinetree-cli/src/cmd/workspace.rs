@@ -107,8 +107,13 @@ fn parse_point(s: &str) -> Result<DVec3, String> {
     }
 }
 
-/// Samples, summarises and writes the requested files.
+/// Samples, summarises on stdout and writes the requested files.
 pub(crate) fn run(args: &Args) -> Result<()> {
+    report_to(args, &mut std::io::stdout().lock())
+}
+
+/// [`run`] with the summary written to `out`.
+fn report_to(args: &Args, out: &mut dyn std::io::Write) -> Result<()> {
     // Check what can be checked before sampling, which may take a while.
     if !(args.voxel.is_finite() && args.voxel > 0.0) {
         bail!("--voxel {} is not a positive length in metres", args.voxel);
@@ -171,17 +176,28 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         voxels: voxels.len(),
         volume: voxels.volume(),
     };
-    print!("{}", summary.report(&set));
+    say(out, &summary.report(&set))?;
     if let (Some(path), Some(format)) = (&args.out, format) {
         write_samples(&set, path, format)?;
-        println!("wrote        {}", path.display());
+        say(out, &format!("wrote        {}\n", path.display()))?;
     }
     if let Some(path) = &args.plot {
         std::fs::write(path, plot_svg(&set, &summary))
             .with_context(|| format!("cannot write {}", path.display()))?;
-        println!("wrote        {}", path.display());
+        say(out, &format!("wrote        {}\n", path.display()))?;
     }
     Ok(())
+}
+
+/// Writes `text` to `out` (stdout); a closed pipe (`kinetree workspace … | head`) is not an
+/// error, and the files are still written.
+fn say(out: &mut dyn std::io::Write, text: &str) -> Result<()> {
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(e).context("cannot write to stdout")
+        }
+        _ => Ok(()),
+    }
 }
 
 fn write_samples(set: &ReachableSet, path: &Path, format: Format) -> Result<()> {
@@ -655,6 +671,78 @@ mod tests {
     use super::*;
     use kinetree::kinematics::reachable::sample_reachable;
     use kinetree::model::samples;
+
+    #[derive(Debug, clap::Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    fn args(words: &[&str]) -> Result<Args, clap::Error> {
+        let panda = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../tests/data/robots/panda.urdf"
+        );
+        let all: Vec<&str> = ["workspace", panda].iter().chain(words).copied().collect();
+        <Cli as clap::Parser>::try_parse_from(all).map(|c| c.args)
+    }
+
+    #[test]
+    fn the_command_writes_every_format_and_the_plot() {
+        let dir = std::env::temp_dir().join(format!("kinetree-ws-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (ext, starts) in [
+            ("ply", "ply\n"),
+            ("csv", "x,y,z,manipulability\n"),
+            ("json", "{"),
+        ] {
+            let out = dir.join(format!("ws.{ext}"));
+            let plot = dir.join("ws.svg");
+            let a = args(&[
+                "--frame",
+                "panda_hand_tcp",
+                "--samples",
+                "3000",
+                "--threads",
+                "1",
+                "--out",
+                out.to_str().unwrap(),
+                "--plot",
+                plot.to_str().unwrap(),
+            ])
+            .unwrap();
+            let mut report = Vec::new();
+            report_to(&a, &mut report).unwrap();
+            let report = String::from_utf8(report).unwrap();
+            assert!(report.contains("samples      3000 (3000 random samples, seed 0)"));
+            assert!(report.contains(&format!("wrote        {}", out.display())));
+            let text = std::fs::read_to_string(&out).unwrap();
+            assert!(text.starts_with(starts), "{ext}");
+            assert!(
+                std::fs::read_to_string(&plot)
+                    .unwrap()
+                    .contains("panda_hand_tcp")
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn bad_arguments_are_errors_not_panics() {
+        let e = |words: &[&str]| {
+            let mut sink = Vec::new();
+            let e = report_to(&args(words).unwrap(), &mut sink).unwrap_err();
+            format!("{e:#}")
+        };
+        assert!(e(&["--frame", "nope"]).contains("unknown link or frame 'nope'"));
+        assert!(e(&["--frame", "panda_hand", "--voxel", "0"]).contains("--voxel"));
+        assert!(e(&["--frame", "panda_hand", "--out", "ws.txt"]).contains(".ply, .csv or .json"));
+        assert!(e(&["--frame", "panda_hand", "--grid", "0"]).contains("cannot sample"));
+        assert!(args(&["--frame", "panda_hand", "--grid", "3", "--samples", "9"]).is_err());
+        assert!(args(&["--frame", "panda_hand", "--base", "1,2"]).is_err());
+        let a = args(&["--frame", "panda_hand", "--base", "-1,0,0.5"]).unwrap();
+        assert_eq!(a.base, DVec3::new(-1.0, 0.0, 0.5));
+    }
 
     #[test]
     fn points_parse_or_say_why_not() {
