@@ -24,10 +24,13 @@ enum Command {
     Inspect(cmd::inspect::Args),
     /// Convert a model between URDF and JSON (formats chosen by the file extensions).
     Convert(cmd::convert::Args),
+    /// Evaluate many named states at once (link poses, Jacobians) from a JSON file.
+    Compute(cmd::compute::Args),
+    /// Time each algorithm on random in-limit states of a model (median ns/call).
+    Bench(cmd::bench::Args),
     /// Sample where a frame can reach: bounds, reach, volume, manipulability, files and a plot.
     Workspace(cmd::workspace::Args),
-    // Later commands slot in here, one module each: compute, bench, dynamics, ik, workspace,
-    // collide, simulate.
+    // Later commands slot in here, one module each: dynamics, ik, workspace, collide, simulate.
 }
 
 fn main() -> ExitCode {
@@ -35,6 +38,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Inspect(args) => cmd::inspect::run(&args),
         Command::Convert(args) => cmd::convert::run(&args),
+        Command::Compute(args) => cmd::compute::run(&args),
+        Command::Bench(args) => cmd::bench::run(&args),
         Command::Workspace(args) => cmd::workspace::run(&args),
     };
     match result {

@@ -261,3 +261,93 @@ fn convert_notes_what_urdf_cannot_hold() {
     );
     assert!(!written.unwrap().contains("root_joint"));
 }
+
+#[test]
+fn compute_takes_every_reference_file_straight_in() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/reference");
+    for robot in [
+        "double_pendulum",
+        "ur5",
+        "kinova",
+        "panda",
+        "panda_collision",
+        "solo12",
+        "talos_reduced",
+    ] {
+        let states = dir.join(format!("{robot}.json"));
+        let reference: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&states).unwrap()).unwrap();
+        let urdf = dir.join(reference["urdf"].as_str().unwrap());
+        let out = scratch(&format!("compute-{robot}")).join("result.json");
+        let link = reference["jacobian_links"][0].as_str().unwrap();
+        let mut args = vec![
+            "compute",
+            urdf.to_str().unwrap(),
+            "--states",
+            states.to_str().unwrap(),
+        ];
+        args.extend(["--jacobians", link, "--out", out.to_str().unwrap()]);
+        if reference["root_joint"] != "fixed" {
+            args.push("--floating");
+        }
+        let o = kinetree(&args);
+        assert!(o.status.success(), "{robot}: {}", stderr(&o));
+        let result: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        assert_eq!(result["model"]["nv"], reference["nv"], "{robot}");
+        let samples = result["samples"].as_array().unwrap();
+        assert_eq!(
+            samples.len(),
+            reference["samples"].as_array().unwrap().len(),
+            "{robot}"
+        );
+        // Every link pose of the last sample agrees with Pinocchio's.
+        let (ours, theirs) = (
+            &samples[samples.len() - 1],
+            &reference["samples"][samples.len() - 1],
+        );
+        for (name, pose) in theirs["link_poses"].as_object().unwrap() {
+            for i in 0..3 {
+                let d = ours["link_poses"][name]["translation"][i].as_f64().unwrap()
+                    - pose["translation"][i].as_f64().unwrap();
+                assert!(d.abs() < 1e-9, "{robot}/{name}");
+            }
+        }
+        assert_eq!(ours["jacobians"][link].as_array().unwrap().len(), 6);
+    }
+}
+
+#[test]
+fn compute_names_a_missing_or_unknown_joint() {
+    let states = scratch("compute-bad").join("states.json");
+    std::fs::write(&states, r#"{"samples": [{"q": {"panda_joint1": 0.1}}]}"#).unwrap();
+    let o = kinetree(&["compute", &panda(), "--states", states.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("panda_joint2"), "{}", stderr(&o));
+    std::fs::write(&states, r#"{"samples": [{"q": {"elbow": 0.1}}]}"#).unwrap();
+    let o = kinetree(&["compute", &panda(), "--states", states.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("elbow"), "{}", stderr(&o));
+}
+
+#[test]
+fn bench_prints_stable_json_keys() {
+    let o = kinetree(&[
+        "bench",
+        &panda(),
+        "--calls",
+        "200",
+        "--repetitions",
+        "1",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(v["nq"], 9);
+    for key in ["fk", "fk_frames", "frame_jacobian", "joint_jacobians"] {
+        assert!(
+            v["ns_per_call"][key].as_f64().is_some_and(|x| x > 0.0),
+            "{key}"
+        );
+    }
+}

@@ -1,0 +1,143 @@
+//! `kinetree bench <model>`: times each algorithm on random in-limit states of the user's own
+//! robot (what MuJoCo's testspeed is to MuJoCo).
+//!
+//! Each algorithm runs `--calls` times, cycling through 1000 random states, after a warm-up of
+//! a tenth as many calls; this is repeated `--repetitions` times and the median ns/call is
+//! printed. With `--json` the output is
+//! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians"}}`;
+//! the keys stay stable so scripts can compare runs.
+
+use anyhow::Result;
+use kinetree::kinematics::configuration::random_configuration;
+use kinetree::kinematics::spatial::Motion;
+use kinetree::kinematics::{
+    FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, compute_joint_jacobians,
+    forward_kinematics, update_frame_placements,
+};
+use kinetree::model::Model;
+use rand::SeedableRng;
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Arguments of `kinetree bench`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct Args {
+    /// The model file (.urdf or .json).
+    model: PathBuf,
+    /// Attach the root link by a 6-DoF floating joint named `root_joint`.
+    #[arg(long)]
+    floating: bool,
+    /// Calls per timed repetition.
+    #[arg(long, default_value_t = 100_000)]
+    calls: usize,
+    /// Timed repetitions (the median is reported).
+    #[arg(long, default_value_t = 7)]
+    repetitions: usize,
+    /// Seed of the random states.
+    #[arg(long, default_value_t = 42)]
+    seed: u64,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Median ns/call of `f(i)` over `reps` repetitions of `calls` calls (after a warm-up).
+fn time(calls: usize, reps: usize, mut f: impl FnMut(usize)) -> f64 {
+    for i in 0..calls / 10 + 1 {
+        f(i);
+    }
+    let mut per_call: Vec<f64> = (0..reps.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            for i in 0..calls {
+                f(i);
+            }
+            start.elapsed().as_secs_f64() * 1e9 / calls.max(1) as f64
+        })
+        .collect();
+    per_call.sort_by(f64::total_cmp);
+    per_call[per_call.len() / 2]
+}
+
+/// The link farthest from the root (most joints on its path): the frame whose Jacobian is timed.
+fn deepest_link(model: &Model) -> usize {
+    (0..model.links().len())
+        .max_by_key(|&l| model.path_to_root(l).len())
+        .unwrap_or(0)
+}
+
+/// Runs every timing and prints the results.
+pub(crate) fn run(args: &Args) -> Result<()> {
+    let model = super::load_model(&args.model, super::root_joint(args.floating))?;
+    let mut rng = rand::rngs::SmallRng::seed_from_u64(args.seed);
+    let states: Vec<Vec<f64>> = (0..1000)
+        .map(|_| {
+            let mut q = vec![0.0; model.nq()];
+            random_configuration(&model, &mut rng, &mut q).map(|()| q)
+        })
+        .collect::<Result<_, _>>()?;
+    let mut data = KinematicsData::new(&model);
+    let mut jac = vec![Motion::ZERO; model.nv()];
+    let frame = FrameId::Link(deepest_link(&model));
+    let (calls, reps) = (args.calls, args.repetitions);
+    let q = |i: usize| &states[i % states.len()];
+    let mut results: Vec<(&str, f64)> = Vec::new();
+    results.push((
+        "fk",
+        time(calls, reps, |i| {
+            let _ = forward_kinematics(&model, &mut data, black_box(q(i)));
+            black_box(&data);
+        }),
+    ));
+    results.push((
+        "fk_frames",
+        time(calls, reps, |i| {
+            let _ = forward_kinematics(&model, &mut data, black_box(q(i)));
+            let _ = update_frame_placements(&model, &mut data);
+            black_box(&data);
+        }),
+    ));
+    results.push((
+        "frame_jacobian",
+        time(calls, reps, |i| {
+            let _ = compute_frame_jacobian(
+                &model,
+                &mut data,
+                black_box(q(i)),
+                frame,
+                ReferenceFrame::LocalWorldAligned,
+                &mut jac,
+            );
+            black_box(&jac);
+        }),
+    ));
+    results.push((
+        "joint_jacobians",
+        time(calls, reps, |i| {
+            let _ = compute_joint_jacobians(&model, &mut data, black_box(q(i)));
+            black_box(&data);
+        }),
+    ));
+
+    if args.json {
+        let map: serde_json::Map<String, serde_json::Value> = results
+            .iter()
+            .map(|(k, v)| ((*k).to_string(), serde_json::json!(v)))
+            .collect();
+        let out = serde_json::json!({"model": model.name(), "nq": model.nq(), "nv": model.nv(), "ns_per_call": map});
+        println!("{out}");
+    } else {
+        println!(
+            "{} (nq = {}, nv = {}), {calls} calls x {reps} repetitions, median ns/call",
+            model.name(),
+            model.nq(),
+            model.nv()
+        );
+        println!("frame_jacobian is timed on '{}'", frame.name(&model));
+        for (name, ns) in &results {
+            println!("  {name:<18} {ns:>10.1}");
+        }
+    }
+    Ok(())
+}

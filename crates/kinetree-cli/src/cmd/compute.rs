@@ -1,0 +1,49 @@
+//! `kinetree compute <model> --states states.json`: evaluates many states at once and writes the
+//! results as JSON, so any language can use kinetree through files.
+
+use anyhow::{Context, Result};
+use kinetree::batch::{BatchOptions, evaluate};
+use serde_json::Value;
+use std::path::PathBuf;
+
+/// Arguments of `kinetree compute`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct Args {
+    /// The model file (.urdf or .json).
+    model: PathBuf,
+    /// Attach the root link by a 6-DoF floating joint named `root_joint`.
+    #[arg(long)]
+    floating: bool,
+    /// The request: `{"samples": [{"q": {joint: value}, "v": {...}, "a": {...}, "tau": {...}}]}`
+    /// (a reference file's samples, which wrap these maps in "state", work too).
+    #[arg(long)]
+    states: PathBuf,
+    /// Links or frames whose LocalWorldAligned Jacobian (6 x nv) is reported, comma separated.
+    #[arg(long, value_delimiter = ',')]
+    jacobians: Vec<String>,
+    /// Write the result here instead of standard output.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// Loads the model and the request, evaluates, and writes the response.
+pub(crate) fn run(args: &Args) -> Result<()> {
+    let model = super::load_model(&args.model, super::root_joint(args.floating))?;
+    let text = std::fs::read_to_string(&args.states)
+        .with_context(|| format!("cannot read {}", args.states.display()))?;
+    let request: Value = serde_json::from_str(&text)
+        .with_context(|| format!("cannot parse {} as JSON", args.states.display()))?;
+    let options = BatchOptions {
+        jacobians: args.jacobians.clone(),
+    };
+    let response = evaluate(&model, &request, &options)
+        .with_context(|| format!("cannot evaluate {}", args.states.display()))?;
+    let mut json = serde_json::to_string(&response)?;
+    json.push('\n');
+    match &args.out {
+        Some(path) => std::fs::write(path, json)
+            .with_context(|| format!("cannot write {}", path.display()))?,
+        None => print!("{json}"),
+    }
+    Ok(())
+}
