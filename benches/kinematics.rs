@@ -7,8 +7,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use kinetree::kinematics::configuration::random_configuration;
 use kinetree::kinematics::spatial::Motion;
 use kinetree::kinematics::{
-    FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, compute_joint_jacobians, forward_kinematics,
-    update_frame_placements,
+    FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, compute_joint_jacobians,
+    forward_kinematics, update_frame_placements,
 };
 use kinetree::model::{Model, RootJoint};
 use rand::SeedableRng;
@@ -23,7 +23,10 @@ const ROBOTS: [(&str, RootJoint, &str); 4] = [
 ];
 
 fn load(name: &str, root: RootJoint) -> Model {
-    let path = format!("{}/tests/data/reference/urdf/{name}.urdf", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/tests/data/reference/urdf/{name}.urdf",
+        env!("CARGO_MANIFEST_DIR")
+    );
     Model::from_urdf_file(&path, root).expect("bundled reference URDF")
 }
 
@@ -51,18 +54,30 @@ fn kinematics(c: &mut Criterion) {
             i = (i + 1) % qs.len();
             &qs[i]
         };
-        group.bench_function("fk", |b| b.iter(|| forward_kinematics(&model, &mut data, black_box(next()))));
+        group.bench_function("fk", |b| {
+            b.iter(|| forward_kinematics(&model, &mut data, black_box(next())))
+        });
         group.bench_function("fk_frames", |b| {
             b.iter(|| {
-                forward_kinematics(&model, &mut data, black_box(next())).and_then(|()| update_frame_placements(&model, &mut data))
+                forward_kinematics(&model, &mut data, black_box(next()))
+                    .and_then(|()| update_frame_placements(&model, &mut data))
             })
         });
         group.bench_function("frame_jacobian", |b| {
             b.iter(|| {
-                compute_frame_jacobian(&model, &mut data, black_box(next()), frame, ReferenceFrame::LocalWorldAligned, &mut jac)
+                compute_frame_jacobian(
+                    &model,
+                    &mut data,
+                    black_box(next()),
+                    frame,
+                    ReferenceFrame::LocalWorldAligned,
+                    &mut jac,
+                )
             })
         });
-        group.bench_function("joint_jacobians", |b| b.iter(|| compute_joint_jacobians(&model, &mut data, black_box(next()))));
+        group.bench_function("joint_jacobians", |b| {
+            b.iter(|| compute_joint_jacobians(&model, &mut data, black_box(next())))
+        });
         group.finish();
     }
 }

@@ -10,6 +10,13 @@
 //! Response: `{"model": {"name", "nq", "nv", "joints": [{"name", "type", "idx_q", "idx_v", "nq",
 //! "nv"}]}, "samples": [{"link_poses": {link: {"translation": [3], "rotation": 3x3 row-major}},
 //! "jacobians": {link: 6 x nv, LocalWorldAligned, columns in the model's v order}, …}]}`.
+//!
+//! With the `dynamics` feature each sample also gets what its inputs allow: always
+//! `gravity_torque`, `mass_matrix` (nv x nv, row-major), `com`, `total_mass`, `potential_energy`;
+//! with `v`: `nle`, `kinetic_energy`, `centroidal_momentum`; with `v` and `a`: `rnea`; with `v`
+//! and `tau`: `aba`. Vectors are in the model's `v` order, and `by_joint` repeats them keyed by
+//! joint name. A quantity that is undefined for a sample (`aba` with a singular mass matrix) is
+//! `null`, with an `errors` entry saying why; the rest of the sample is still computed.
 
 use crate::Error;
 use crate::kinematics::configuration::{neutral_configuration, set_joint_q, set_joint_v};
@@ -26,6 +33,11 @@ use serde_json::{Map, Value, json};
 pub struct BatchOptions {
     /// Links or frames whose LocalWorldAligned Jacobian is reported.
     pub jacobians: Vec<String>,
+    /// Skip the dynamics quantities even when the inputs allow them.
+    pub no_dynamics: bool,
+    /// Leave the joints' damping, friction and armature out of the dynamics, as Pinocchio (and
+    /// its reference data) does; by default they come from the model.
+    pub ignore_joint_dynamics: bool,
 }
 
 /// The `model` block of a response: name, sizes and every moving joint's blocks.
@@ -154,6 +166,15 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
         .collect::<Result<_, _>>()?;
     let mut data = KinematicsData::new(model);
     let mut jac = vec![Motion::ZERO; model.nv()];
+    #[cfg(feature = "dynamics")]
+    let mut dynamics_data = crate::dynamics::DynamicsData::with_joint_terms(
+        model,
+        if options.ignore_joint_dynamics {
+            crate::dynamics::JointTerms::Ignored
+        } else {
+            crate::dynamics::JointTerms::FromModel
+        },
+    );
     let mut out = Vec::with_capacity(samples.len());
     for (i, sample) in samples.iter().enumerate() {
         let input =
@@ -183,7 +204,106 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
         if !jacobians.is_empty() {
             s.insert("jacobians".into(), Value::Object(jacobians));
         }
+        #[cfg(feature = "dynamics")]
+        if !options.no_dynamics {
+            dynamics::add(model, &mut dynamics_data, &input, &mut s)?;
+        }
         out.push(Value::Object(s));
     }
     Ok(json!({"model": model_summary(model), "samples": out}))
+}
+
+/// A vector in the model's `v` order keyed by joint name (numbers for 1-DoF joints, arrays for
+/// multi-DoF joints).
+#[must_use]
+pub fn by_joint(model: &Model, x: &[f64]) -> Value {
+    let mut m = Map::new();
+    for j in model.moving_joints() {
+        let r = model.joint_v_range(j);
+        let value = if r.len() == 1 {
+            json!(x[r.start])
+        } else {
+            json!(x[r])
+        };
+        m.insert(model.joint(j).name.clone(), value);
+    }
+    Value::Object(m)
+}
+
+#[cfg(feature = "dynamics")]
+mod dynamics {
+    //! The dynamics quantities of a sample: what the inputs allow (q: gravity, mass matrix, COM;
+    //! with v: nle, energy, momentum; with a: rnea; with tau: aba).
+
+    use super::{SampleInput, by_joint};
+    use crate::Error;
+    use crate::dynamics::{DynamicsData, compute_all_terms};
+    use crate::model::Model;
+    use serde_json::{Map, Value, json};
+
+    pub(super) fn add(
+        model: &Model,
+        data: &mut DynamicsData,
+        input: &SampleInput,
+        s: &mut Map<String, Value>,
+    ) -> Result<(), Error> {
+        let zeros = vec![0.0; model.nv()];
+        let v = input.v.as_deref().unwrap_or(&zeros);
+        let a = input.a.as_deref().unwrap_or(&zeros);
+        let tau = input.tau.as_deref().unwrap_or(&zeros);
+        let t = compute_all_terms(model, data, &input.q, v, a, tau)?;
+        let nv = model.nv();
+        let mut by = Map::new();
+        let mut errors = Vec::new();
+        s.insert("gravity_torque".into(), json!(t.gravity_torque));
+        by.insert("gravity_torque".into(), by_joint(model, &t.gravity_torque));
+        let rows: Vec<&[f64]> = t.mass_matrix.chunks(nv.max(1)).take(nv).collect();
+        s.insert("mass_matrix".into(), json!(rows));
+        match &t.com {
+            Ok(c) => {
+                s.insert("com".into(), json!(c.to_array()));
+            }
+            Err(e) => {
+                s.insert("com".into(), Value::Null);
+                errors.push(json!({"quantity": "com", "error": e.to_string()}));
+            }
+        }
+        s.insert("total_mass".into(), json!(t.total_mass));
+        s.insert("potential_energy".into(), json!(t.potential_energy));
+        if input.v.is_some() {
+            s.insert("nle".into(), json!(t.nle));
+            by.insert("nle".into(), by_joint(model, &t.nle));
+            s.insert("kinetic_energy".into(), json!(t.kinetic_energy));
+            match &t.centroidal_momentum {
+                Ok(h) => {
+                    s.insert("centroidal_momentum".into(), json!(h.to_array()));
+                }
+                Err(e) => {
+                    s.insert("centroidal_momentum".into(), Value::Null);
+                    errors.push(json!({"quantity": "centroidal_momentum", "error": e.to_string()}));
+                }
+            }
+        }
+        if input.v.is_some() && input.a.is_some() {
+            s.insert("rnea".into(), json!(t.rnea));
+            by.insert("rnea".into(), by_joint(model, &t.rnea));
+        }
+        if input.v.is_some() && input.tau.is_some() {
+            match &t.aba {
+                Ok(ddq) => {
+                    s.insert("aba".into(), json!(ddq));
+                    by.insert("aba".into(), by_joint(model, ddq));
+                }
+                Err(e) => {
+                    s.insert("aba".into(), Value::Null);
+                    errors.push(json!({"quantity": "aba", "error": e.to_string()}));
+                }
+            }
+        }
+        s.insert("by_joint".into(), Value::Object(by));
+        if !errors.is_empty() {
+            s.insert("errors".into(), Value::Array(errors));
+        }
+        Ok(())
+    }
 }

@@ -32,8 +32,11 @@ pub enum Error {
     #[cfg(feature = "kinematics")]
     #[error("{0}")]
     Batch(String),
+    /// A dynamics algorithm rejected its input.
+    #[cfg(feature = "dynamics")]
+    #[error(transparent)]
+    Dynamics(#[from] crate::dynamics::DynamicsError),
     // The other layers' errors join here as those crates gain them, each behind its feature:
-    //   #[cfg(feature = "dynamics")]   #[error(transparent)] Dynamics(#[from] crate::dynamics::DynamicsError),
     //   #[cfg(feature = "collision")]  #[error(transparent)] Collision(#[from] crate::collision::CollisionError),
     // A layer error that wraps the one below (KinematicsError::Model) stays in its own variant:
     // `From` goes by type, so `?` on a KinematicsError gives Error::Kinematics.

@@ -19,6 +19,11 @@ use std::path::Path;
 enum Tolerance {
     /// Every entry within this absolute error.
     Absolute(f64),
+    /// Every entry within this error relative to the largest reference entry of the sample.
+    Relative(f64),
+    /// Relative, scaled per sample by the mass matrix condition number: `max(base, cond · 1e-13)`
+    /// (the reference expects differences of order `cond · 1e-15` between implementations).
+    RelativeCond(f64),
 }
 
 /// Worst errors of one quantity of one robot.
@@ -31,6 +36,8 @@ pub(crate) struct Row {
     pub(crate) worst_rel: f64,
     tolerance: Tolerance,
     pub(crate) entries: usize,
+    /// Worst error divided by its sample's tolerance: the check passes when this is at most 1.
+    worst_ratio: f64,
 }
 
 impl Row {
@@ -42,11 +49,13 @@ impl Row {
             worst_rel: 0.0,
             tolerance,
             entries: 0,
+            worst_ratio: 0.0,
         }
     }
 
-    /// Records one sample's pairs (ours, reference).
-    fn record(&mut self, pairs: &[(f64, f64)]) {
+    /// Records one sample's pairs (ours, reference); `cond` is the sample's mass matrix condition
+    /// number (used by [`Tolerance::RelativeCond`]).
+    fn record_with(&mut self, pairs: &[(f64, f64)], cond: f64) {
         let scale = pairs.iter().fold(0.0f64, |m, (_, r)| m.max(r.abs()));
         for (ours, reference) in pairs {
             // A NaN never compares as small: record it as an infinite error.
@@ -56,23 +65,31 @@ impl Row {
                 f64::INFINITY
             };
             self.worst_abs = self.worst_abs.max(err);
-            if scale > 0.0 {
-                self.worst_rel = self.worst_rel.max(err / scale);
-            }
+            let rel = if scale > 0.0 { err / scale } else { err };
+            self.worst_rel = self.worst_rel.max(rel);
+            let ratio = match self.tolerance {
+                Tolerance::Absolute(t) => err / t,
+                Tolerance::Relative(t) => rel / t,
+                Tolerance::RelativeCond(t) => rel / t.max(cond * 1e-13),
+            };
+            self.worst_ratio = self.worst_ratio.max(ratio);
         }
         self.entries += pairs.len();
     }
 
+    fn record(&mut self, pairs: &[(f64, f64)]) {
+        self.record_with(pairs, 1.0);
+    }
+
     pub(crate) fn passed(&self) -> bool {
-        self.entries > 0
-            && match self.tolerance {
-                Tolerance::Absolute(t) => self.worst_abs <= t,
-            }
+        self.entries > 0 && self.worst_ratio <= 1.0
     }
 
     fn tolerance_text(&self) -> String {
         match self.tolerance {
             Tolerance::Absolute(t) => format!("{t:.0e} abs"),
+            Tolerance::Relative(t) => format!("{t:.0e} rel"),
+            Tolerance::RelativeCond(t) => format!("{t:.0e}*cond"),
         }
     }
 }
@@ -106,6 +123,9 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
         .unwrap_or_default();
     let options = BatchOptions {
         jacobians: jacobian_links.clone(),
+        no_dynamics: false,
+        // The reference ignores URDF <dynamics> damping and friction, as Pinocchio does.
+        ignore_joint_dynamics: true,
     };
     let response = evaluate(&model, &reference, &options)
         .with_context(|| format!("{robot}: evaluation failed"))?;
@@ -134,6 +154,26 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
 
     let mut poses = Row::new(&robot, "link_poses", Tolerance::Absolute(1e-9));
     let mut jacobians = Row::new(&robot, "jacobians", Tolerance::Absolute(1e-9));
+    let rel = Tolerance::Relative(1e-9);
+    let vector_names = ["rnea", "nle", "gravity_torque", "aba"];
+    let mut vectors: Vec<Row> = vector_names
+        .iter()
+        .map(|&q| {
+            Row::new(
+                &robot,
+                q,
+                if q == "aba" {
+                    Tolerance::RelativeCond(1e-9)
+                } else {
+                    rel
+                },
+            )
+        })
+        .collect();
+    let mut mass_matrix = Row::new(&robot, "mass_matrix", rel);
+    let mut com = Row::new(&robot, "com", rel);
+    let mut energy = Row::new(&robot, "kinetic_energy", rel);
+    let mut momentum = Row::new(&robot, "centroidal_momentum", rel);
     let samples = reference["samples"]
         .as_array()
         .map(Vec::as_slice)
@@ -163,8 +203,53 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
             }
             jacobians.record(&pairs);
         }
+        let cond = sample["mass_matrix_cond"].as_f64().unwrap_or(f64::INFINITY);
+        // Joint-space vectors by joint name (numbers for 1-DoF joints, arrays otherwise).
+        for (row, name) in vectors.iter_mut().zip(vector_names) {
+            let expected = &sample["by_joint"][name];
+            let Some(expected) = expected.as_object() else {
+                continue;
+            };
+            let mut pairs = Vec::new();
+            for (joint, value) in expected {
+                let got = &ours["by_joint"][name][joint];
+                match value {
+                    Value::Array(a) => {
+                        pairs.extend(a.iter().enumerate().map(|(k, x)| (f(&got[k]), f(x))));
+                    }
+                    x => pairs.push((f(got), f(x))),
+                }
+            }
+            row.record_with(&pairs, cond);
+        }
+        if let Some(m) = sample["mass_matrix"].as_array() {
+            let mut pairs = Vec::new();
+            for &(oi, ti) in &column_map {
+                for &(oj, tj) in &column_map {
+                    pairs.push((f(&ours["mass_matrix"][oi][oj]), f(&m[ti][tj])));
+                }
+            }
+            mass_matrix.record(&pairs);
+        }
+        let triples = |key: &str, n: usize| -> Vec<(f64, f64)> {
+            (0..n)
+                .map(|k| (f(&ours[key][k]), f(&sample[key][k])))
+                .collect()
+        };
+        if sample["com"].is_array() {
+            com.record(&triples("com", 3));
+        }
+        if sample["centroidal_momentum"].is_array() {
+            momentum.record(&triples("centroidal_momentum", 6));
+        }
+        if let Some(e) = sample["kinetic_energy"].as_f64() {
+            energy.record(&[(f(&ours["kinetic_energy"]), e)]);
+        }
     }
-    Ok(vec![poses, jacobians])
+    let mut rows = vec![poses, jacobians];
+    rows.extend(vectors);
+    rows.extend([mass_matrix, com, energy, momentum]);
+    Ok(rows)
 }
 
 /// Runs every reference file and returns all rows.
@@ -229,7 +314,7 @@ mod tests {
     fn regression_suite_passes() {
         let rows = super::check_all(&crate::project_root()).unwrap();
         let table = super::table(&rows);
-        assert!(rows.len() >= 14, "{table}");
+        assert!(rows.len() >= 7 * 10, "{table}");
         assert!(rows.iter().all(super::Row::passed), "{table}");
     }
 }

@@ -1,5 +1,7 @@
 //! `kinetree compute <model> --states states.json`: evaluates many states at once and writes the
-//! results as JSON, so any language can use kinetree through files.
+//! results as JSON, so any language can use kinetree through files. The format is documented in
+//! `kinetree::batch`: link poses, requested Jacobians, and the dynamics quantities the given
+//! inputs allow.
 
 use anyhow::{Context, Result};
 use kinetree::batch::{BatchOptions, evaluate};
@@ -21,6 +23,9 @@ pub(crate) struct Args {
     /// Links or frames whose LocalWorldAligned Jacobian (6 x nv) is reported, comma separated.
     #[arg(long, value_delimiter = ',')]
     jacobians: Vec<String>,
+    /// Leave joint damping, friction and armature out of the dynamics (as Pinocchio does).
+    #[arg(long)]
+    ignore_joint_dynamics: bool,
     /// Write the result here instead of standard output.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -35,6 +40,8 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         .with_context(|| format!("cannot parse {} as JSON", args.states.display()))?;
     let options = BatchOptions {
         jacobians: args.jacobians.clone(),
+        no_dynamics: false,
+        ignore_joint_dynamics: args.ignore_joint_dynamics,
     };
     let response = evaluate(&model, &request, &options)
         .with_context(|| format!("cannot evaluate {}", args.states.display()))?;
