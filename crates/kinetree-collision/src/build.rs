@@ -156,6 +156,7 @@ impl CollisionModel {
                     origin: collision.origin,
                     body_from_shape: se3_to_pose(&body_from_geometry) * geometry_from_shape,
                     geometry: collision.geometry.clone(),
+                    kind: crate::narrow::Kind::of(&shape),
                     shape,
                 });
             }

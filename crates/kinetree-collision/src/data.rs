@@ -4,7 +4,7 @@
 use crate::build::{CollisionOptions, shape_from_geometry};
 use crate::error::CollisionError;
 use crate::model::CollisionModel;
-use crate::narrow::Scratch;
+use crate::narrow::{Kind, Posed, Scratch};
 use crate::pose::se3_to_pose;
 use glam::DVec3;
 use kinetree_kinematics::model::{Geometry, Model};
@@ -75,6 +75,7 @@ pub struct Obstacle {
     pub(crate) shape: SharedShape,
     pub(crate) pose: Pose,
     pub(crate) aabb: Aabb,
+    pub(crate) kind: Kind,
 }
 
 impl Obstacle {
@@ -134,7 +135,7 @@ impl CollisionData {
             aabbs: cmodel
                 .shapes
                 .iter()
-                .map(|s| s.shape.compute_aabb(&s.body_from_shape))
+                .map(|s| s.kind.aabb(&*s.shape, &s.body_from_shape))
                 .collect(),
             distances: vec![Proximity::UNSET; npairs],
             link_pair_distances: cmodel
@@ -203,7 +204,7 @@ impl CollisionData {
         for (k, s) in cmodel.shapes.iter().enumerate() {
             let pose = self.body_pose[s.body] * s.body_from_shape;
             self.world_from_shape[k] = pose;
-            self.aabbs[k] = s.shape.compute_aabb(&pose);
+            self.aabbs[k] = s.kind.aabb(&*s.shape, &pose);
         }
         Ok(())
     }
@@ -304,7 +305,7 @@ impl CollisionData {
         if let Some(o) = self.obstacles[id.0].as_mut() {
             // Keep the geometry-to-shape offset (cylinders) in the stored pose.
             o.pose *= geometry_from_shape;
-            o.aabb = o.shape.compute_aabb(&o.pose);
+            o.aabb = o.kind.aabb(&*o.shape, &o.pose);
         }
         Ok(id)
     }
@@ -322,12 +323,14 @@ impl CollisionData {
         pose: &Pose,
     ) -> Result<ObstacleId, CollisionError> {
         check_pose(pose)?;
-        let aabb = shape.compute_aabb(pose);
+        let kind = Kind::of(&shape);
+        let aabb = kind.aabb(&*shape, pose);
         self.obstacles.push(Some(Obstacle {
             name: name.into(),
             shape,
             pose: *pose,
             aabb,
+            kind,
         }));
         let n = self.world_from_shape.len();
         let live = self.obstacles.iter().flatten().count();
@@ -346,7 +349,7 @@ impl CollisionData {
         check_pose(pose)?;
         let o = self.obstacle_mut(id)?;
         o.pose = *pose;
-        o.aabb = o.shape.compute_aabb(pose);
+        o.aabb = o.kind.aabb(&*o.shape, pose);
         Ok(())
     }
 
@@ -390,6 +393,16 @@ impl CollisionData {
             .get_mut(id.0)
             .and_then(Option::as_mut)
             .ok_or(CollisionError::UnknownObstacle { id: id.0 })
+    }
+}
+
+impl Obstacle {
+    pub(crate) fn posed(&self) -> Posed<'_> {
+        Posed {
+            kind: &self.kind,
+            shape: &*self.shape,
+            pose: &self.pose,
+        }
     }
 }
 

@@ -17,6 +17,7 @@ pub struct CollisionShape {
     pub(crate) body_from_shape: Pose,
     pub(crate) geometry: Geometry,
     pub(crate) shape: SharedShape,
+    pub(crate) kind: crate::narrow::Kind,
 }
 
 impl CollisionShape {
@@ -68,6 +69,16 @@ impl CollisionShape {
     #[must_use]
     pub fn shape(&self) -> &SharedShape {
         &self.shape
+    }
+}
+
+impl CollisionShape {
+    pub(crate) fn posed<'a>(&'a self, pose: &'a Pose) -> crate::narrow::Posed<'a> {
+        crate::narrow::Posed {
+            kind: &self.kind,
+            shape: &*self.shape,
+            pose,
+        }
     }
 }
 

@@ -1,12 +1,71 @@
-//! The narrow phase: signed distance with witness points between two posed parry shapes,
-//! without allocating once the scratch buffers exist.
+//! The narrow phase: signed distance with witness points between two posed shapes, without
+//! allocating once the scratch buffers exist.
+//!
+//! Primitive shapes are dispatched on their concrete type ([`Kind`]) so parry's GJK/EPA are
+//! monomorphised over them (inlined support functions); other shapes go through parry's
+//! `dyn Shape` queries.
 
 use glam::DVec3;
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::epa::EPA;
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints, Unsupported, details};
-use parry3d_f64::shape::Shape;
+use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, Shape, SharedShape, SupportMap};
+
+/// The concrete type of a shape, for static dispatch.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Kind {
+    Ball(Ball),
+    Cylinder(Cylinder),
+    Cuboid(Cuboid),
+    Capsule(Capsule),
+    /// Anything else (meshes, convex hulls, user shapes): parry's dynamic queries.
+    Other,
+}
+
+impl Kind {
+    pub(crate) fn of(shape: &SharedShape) -> Kind {
+        if let Some(b) = shape.as_ball() {
+            Kind::Ball(*b)
+        } else if let Some(c) = shape.as_cylinder() {
+            Kind::Cylinder(*c)
+        } else if let Some(c) = shape.as_cuboid() {
+            Kind::Cuboid(*c)
+        } else if let Some(c) = shape.as_capsule() {
+            Kind::Capsule(*c)
+        } else {
+            Kind::Other
+        }
+    }
+
+    /// The world bounding box of the shape at `pose` (closed forms for primitives).
+    pub(crate) fn aabb(&self, shape: &dyn Shape, pose: &Pose) -> Aabb {
+        let c = pose.translation;
+        let half = match self {
+            Kind::Ball(b) => DVec3::splat(b.radius),
+            Kind::Cylinder(cyl) => {
+                // Axis extent h·|a_i| plus the disk's extent r·sqrt(1 - a_i²).
+                let a = pose.rotation * DVec3::Y;
+                let disk = (DVec3::ONE - a * a).max(DVec3::ZERO);
+                a.abs() * cyl.half_height
+                    + DVec3::new(disk.x.sqrt(), disk.y.sqrt(), disk.z.sqrt()) * cyl.radius
+            }
+            Kind::Cuboid(b) => {
+                let m = glam::DMat3::from_quat(pose.rotation);
+                let h = b.half_extents;
+                m.x_axis.abs() * h.x + m.y_axis.abs() * h.y + m.z_axis.abs() * h.z
+            }
+            Kind::Capsule(cap) => {
+                let (a, b) = (pose * cap.segment.a, pose * cap.segment.b);
+                let r = DVec3::splat(cap.radius);
+                return Aabb::new(a.min(b) - r, a.max(b) + r);
+            }
+            Kind::Other => return shape.compute_aabb(pose),
+        };
+        Aabb::new(c - half, c + half)
+    }
+}
 
 /// Reusable buffers of the narrow phase: parry's EPA keeps its polytope in vectors, which are
 /// reused from one penetration query to the next.
@@ -37,120 +96,504 @@ pub(crate) struct Witness {
     pub normal: DVec3,
 }
 
-/// The signed distance between shape `a` at `pos_a` and shape `b` at `pos_b` (both world poses),
-/// or `None` when it is larger than `max_dist`.
+/// A posed shape: its concrete kind, the shape itself and its world pose.
+#[derive(Clone, Copy)]
+pub(crate) struct Posed<'a> {
+    pub kind: &'a Kind,
+    pub shape: &'a dyn Shape,
+    pub pose: &'a Pose,
+}
+
+/// Points and normal in shape `a`'s frame, and the signed distance.
+type Local = (Vector, Vector, Vector, f64);
+
+/// The signed distance between `a` and `b`, or `None` when it is larger than `max_dist`.
 ///
 /// Positive: separation, with the closest points. Negative: penetration depth, with the deepest
 /// points (each on its shape's surface). `normal` is a unit vector pointing from `a` toward `b`.
 pub(crate) fn proximity(
-    pos_a: &Pose,
-    a: &dyn Shape,
-    pos_b: &Pose,
-    b: &dyn Shape,
+    a: Posed<'_>,
+    b: Posed<'_>,
     max_dist: f64,
     scratch: &mut Scratch,
 ) -> Result<Option<Witness>, Unsupported> {
-    if let (Some(ba), Some(bb)) = (a.as_ball(), b.as_ball()) {
+    if let (Kind::Ball(ba), Kind::Ball(bb)) = (a.kind, b.kind) {
         // Closed form, as coal does for spheres.
-        let d = pos_b.translation - pos_a.translation;
-        let (normal, len) = match d.try_normalize() {
-            Some(n) => (n, d.length()),
-            None => (DVec3::X, 0.0),
-        };
+        let d = b.pose.translation - a.pose.translation;
+        let len = d.length();
+        let normal = if len > 0.0 { d / len } else { DVec3::X };
         let distance = len - ba.radius - bb.radius;
         if distance > max_dist {
             return Ok(None);
         }
         return Ok(Some(Witness {
             distance,
-            point_a: pos_a.translation + normal * ba.radius,
-            point_b: pos_b.translation - normal * bb.radius,
+            point_a: a.pose.translation + normal * ba.radius,
+            point_b: b.pose.translation - normal * bb.radius,
             normal,
         }));
     }
-    let pos12 = pos_a.inv_mul(pos_b);
-    let local = if let (Some(ba), true) = (a.as_ball(), b.is_convex()) {
-        details::contact_ball_convex_polyhedron(&pos12, ba, b, max_dist)
-            .map(|c| (c.point1, pos12 * c.point2, c.normal1, c.dist))
-    } else if let (true, Some(bb)) = (a.is_convex(), b.as_ball()) {
-        details::contact_convex_polyhedron_ball(&pos12, a, bb, max_dist)
-            .map(|c| (c.point1, pos12 * c.point2, c.normal1, c.dist))
-    } else if let (Some(sa), Some(sb)) = (a.as_support_map(), b.as_support_map()) {
-        let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
-        scratch
-            .simplex
-            .reset(CsoPoint::from_shapes(&pos12, sa, sb, dir));
-        match gjk::closest_points(&pos12, sa, sb, max_dist, true, &mut scratch.simplex) {
-            GJKResult::ClosestPoints(p1, p2, n) => {
-                let d = p2 - p1;
-                let len = d.length();
-                // Separated: the distance between the witnesses, along them.
-                let n = if len > 0.0 { d / len } else { n };
-                Some((p1, p2, n, len))
-            }
-            GJKResult::Intersection => {
-                match scratch.epa.closest_points(&pos12, sa, sb, &scratch.simplex) {
-                    Some((p1, p2, n)) => Some((p1, p2, n, (p2 - p1).dot(n).min(0.0))),
-                    // EPA failed on a degenerate configuration: report touching.
-                    None => Some((DVec3::ZERO, DVec3::ZERO, Vector::X, 0.0)),
-                }
-            }
-            GJKResult::NoIntersection(_) | GJKResult::Proximity(_) => None,
+    // A ball against a primitive: exact closed forms in the primitive's frame.
+    if let Kind::Ball(ball) = a.kind {
+        if let Some(r) = ball_primitive(a.pose.translation, ball.radius, b.kind, b.pose) {
+            return Ok((r.distance <= max_dist).then_some(Witness {
+                distance: r.distance,
+                point_a: r.point_b,
+                point_b: r.point_a,
+                normal: -r.normal,
+            }));
         }
-    } else {
-        // Composite shapes (triangle meshes): parry's generic queries.
-        return composite(pos_a, a, pos_b, b, max_dist);
+    }
+    if let Kind::Ball(ball) = b.kind {
+        if let Some(r) = ball_primitive(b.pose.translation, ball.radius, a.kind, a.pose) {
+            return Ok((r.distance <= max_dist).then_some(r));
+        }
+    }
+    let pos12 = a.pose.inv_mul(b.pose);
+    let local: Option<Local> = match (a.kind, b.kind) {
+        (Kind::Ball(ball), Kind::Cylinder(s)) => ball_convex(&pos12, ball, s, max_dist),
+        (Kind::Ball(ball), Kind::Cuboid(s)) => ball_convex(&pos12, ball, s, max_dist),
+        (Kind::Ball(ball), Kind::Capsule(s)) => ball_convex(&pos12, ball, s, max_dist),
+        (Kind::Cylinder(s), Kind::Ball(ball)) => convex_ball(&pos12, s, ball, max_dist),
+        (Kind::Cuboid(s), Kind::Ball(ball)) => convex_ball(&pos12, s, ball, max_dist),
+        (Kind::Capsule(s), Kind::Ball(ball)) => convex_ball(&pos12, s, ball, max_dist),
+        (Kind::Cylinder(s1), Kind::Cylinder(s2)) => match cylinder_sides(&pos12, s1, s2) {
+            Sides::Exact(local) => (local.3 <= max_dist).then_some(local),
+            Sides::Fallback(dir) => support_from(&pos12, s1, s2, max_dist, dir, scratch),
+        },
+        (Kind::Cylinder(s1), Kind::Cuboid(s2)) => support(&pos12, s1, s2, max_dist, scratch),
+        (Kind::Cylinder(s1), Kind::Capsule(s2)) => support(&pos12, s1, s2, max_dist, scratch),
+        (Kind::Cuboid(s1), Kind::Cylinder(s2)) => support(&pos12, s1, s2, max_dist, scratch),
+        (Kind::Cuboid(s1), Kind::Cuboid(s2)) => support(&pos12, s1, s2, max_dist, scratch),
+        (Kind::Cuboid(s1), Kind::Capsule(s2)) => support(&pos12, s1, s2, max_dist, scratch),
+        (Kind::Capsule(s1), Kind::Cylinder(s2)) => support(&pos12, s1, s2, max_dist, scratch),
+        (Kind::Capsule(s1), Kind::Cuboid(s2)) => support(&pos12, s1, s2, max_dist, scratch),
+        (Kind::Capsule(s1), Kind::Capsule(s2)) => support(&pos12, s1, s2, max_dist, scratch),
+        _ => {
+            if let (Some(ball), true) = (a.shape.as_ball(), b.shape.is_convex()) {
+                ball_convex(&pos12, ball, b.shape, max_dist)
+            } else if let (true, Some(ball)) = (a.shape.is_convex(), b.shape.as_ball()) {
+                convex_ball(&pos12, a.shape, ball, max_dist)
+            } else if let (Some(s1), Some(s2)) =
+                (a.shape.as_support_map(), b.shape.as_support_map())
+            {
+                support(&pos12, s1, s2, max_dist, scratch)
+            } else {
+                // Composite shapes (triangle meshes): parry's generic queries.
+                return composite(a, b, max_dist);
+            }
+        }
     };
     Ok(local.map(|(p1, p2, n, distance)| Witness {
         distance,
-        point_a: pos_a.transform_point(p1),
-        point_b: pos_a.transform_point(p2),
-        normal: pos_a.rotation * n,
+        point_a: a.pose.transform_point(p1),
+        point_b: a.pose.transform_point(p2),
+        normal: a.pose.rotation * n,
     }))
 }
 
-fn composite(
-    pos_a: &Pose,
-    a: &dyn Shape,
-    pos_b: &Pose,
-    b: &dyn Shape,
+fn ball_convex<S: Shape + ?Sized>(
+    pos12: &Pose,
+    ball: &Ball,
+    s: &S,
     max_dist: f64,
-) -> Result<Option<Witness>, Unsupported> {
-    match query::closest_points(pos_a, a, pos_b, b, max_dist)? {
-        ClosestPoints::WithinMargin(p1, p2) => {
+) -> Option<Local> {
+    details::contact_ball_convex_polyhedron(pos12, ball, s, max_dist)
+        .map(|c| (c.point1, pos12 * c.point2, c.normal1, c.dist))
+}
+
+fn convex_ball<S: Shape + ?Sized>(
+    pos12: &Pose,
+    s: &S,
+    ball: &Ball,
+    max_dist: f64,
+) -> Option<Local> {
+    details::contact_convex_polyhedron_ball(pos12, s, ball, max_dist)
+        .map(|c| (c.point1, pos12 * c.point2, c.normal1, c.dist))
+}
+
+/// GJK for separated shapes, EPA (with the reused buffers) for penetrating ones.
+fn support<G1, G2>(
+    pos12: &Pose,
+    g1: &G1,
+    g2: &G2,
+    max_dist: f64,
+    scratch: &mut Scratch,
+) -> Option<Local>
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
+    let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
+    support_from(pos12, g1, g2, max_dist, dir, scratch)
+}
+
+/// [`support`] with GJK's first search direction given (a unit vector from shape 1 toward
+/// shape 2, in shape 1's frame).
+fn support_from<G1, G2>(
+    pos12: &Pose,
+    g1: &G1,
+    g2: &G2,
+    max_dist: f64,
+    dir: Vector,
+    scratch: &mut Scratch,
+) -> Option<Local>
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
+    scratch
+        .simplex
+        .reset(CsoPoint::from_shapes(pos12, g1, g2, dir));
+    match gjk::closest_points(pos12, g1, g2, max_dist, true, &mut scratch.simplex) {
+        GJKResult::ClosestPoints(p1, p2, n) => {
+            // Separated: the distance between the witnesses, along them.
             let d = p2 - p1;
             let len = d.length();
+            let n = if len > 0.0 { d / len } else { n };
+            Some((p1, p2, n, len))
+        }
+        GJKResult::Intersection => {
+            match scratch.epa.closest_points(pos12, g1, g2, &scratch.simplex) {
+                Some((p1, p2, n)) => Some((p1, p2, n, (p2 - p1).dot(n).min(0.0))),
+                // EPA failed on a degenerate configuration: report touching.
+                None => Some((Vector::ZERO, Vector::ZERO, Vector::X, 0.0)),
+            }
+        }
+        GJKResult::NoIntersection(_) | GJKResult::Proximity(_) => None,
+    }
+}
+
+fn composite(a: Posed<'_>, b: Posed<'_>, max_dist: f64) -> Result<Option<Witness>, Unsupported> {
+    match query::closest_points(a.pose, a.shape, b.pose, b.shape, max_dist)? {
+        ClosestPoints::WithinMargin(p1, p2) => {
+            let d = p2 - p1;
             Ok(Some(Witness {
-                distance: len,
+                distance: d.length(),
                 point_a: p1,
                 point_b: p2,
                 normal: d.try_normalize().unwrap_or(DVec3::X),
             }))
         }
         ClosestPoints::Disjoint => Ok(None),
-        ClosestPoints::Intersecting => Ok(Some(match query::contact(pos_a, a, pos_b, b, 0.0)? {
-            Some(c) => Witness {
-                distance: c.dist.min(0.0),
-                point_a: c.point1,
-                point_b: c.point2,
-                normal: c.normal1,
+        ClosestPoints::Intersecting => Ok(Some(
+            match query::contact(a.pose, a.shape, b.pose, b.shape, 0.0)? {
+                Some(c) => Witness {
+                    distance: c.dist.min(0.0),
+                    point_a: c.point1,
+                    point_b: c.point2,
+                    normal: c.normal1,
+                },
+                None => Witness {
+                    distance: 0.0,
+                    point_a: a.pose.translation,
+                    point_b: b.pose.translation,
+                    normal: DVec3::X,
+                },
             },
-            None => Witness {
-                distance: 0.0,
-                point_a: pos_a.translation,
-                point_b: pos_b.translation,
-                normal: DVec3::X,
-            },
-        })),
+        )),
     }
 }
 
-/// Whether the two posed shapes overlap or touch.
+/// Whether the two posed shapes overlap or touch (no penetration depth computed).
 pub(crate) fn intersects(
-    pos_a: &Pose,
-    a: &dyn Shape,
-    pos_b: &Pose,
-    b: &dyn Shape,
+    a: Posed<'_>,
+    b: Posed<'_>,
+    scratch: &mut Scratch,
 ) -> Result<bool, Unsupported> {
-    query::intersection_test(pos_a, a, pos_b, b).map(|r| r.intersecting)
+    let pos12 = a.pose.inv_mul(b.pose);
+    let hit = match (a.kind, b.kind) {
+        (Kind::Ball(ba), Kind::Ball(bb)) => {
+            let r = ba.radius + bb.radius;
+            pos12.translation.length_squared() <= r * r
+        }
+        (Kind::Ball(_), Kind::Other)
+        | (Kind::Other, Kind::Ball(_))
+        | (Kind::Other, Kind::Other) => {
+            query::intersection_test(a.pose, a.shape, b.pose, b.shape)?.intersecting
+        }
+        (Kind::Ball(_), _) | (_, Kind::Ball(_)) => proximity(a, b, 0.0, scratch)?.is_some(),
+        (Kind::Cylinder(s1), Kind::Cylinder(s2)) => overlap(&pos12, s1, s2, scratch),
+        (Kind::Cylinder(s1), Kind::Cuboid(s2)) => overlap(&pos12, s1, s2, scratch),
+        (Kind::Cylinder(s1), Kind::Capsule(s2)) => overlap(&pos12, s1, s2, scratch),
+        (Kind::Cuboid(s1), Kind::Cylinder(s2)) => overlap(&pos12, s1, s2, scratch),
+        (Kind::Cuboid(s1), Kind::Cuboid(s2)) => overlap(&pos12, s1, s2, scratch),
+        (Kind::Cuboid(s1), Kind::Capsule(s2)) => overlap(&pos12, s1, s2, scratch),
+        (Kind::Capsule(s1), Kind::Cylinder(s2)) => overlap(&pos12, s1, s2, scratch),
+        (Kind::Capsule(s1), Kind::Cuboid(s2)) => overlap(&pos12, s1, s2, scratch),
+        (Kind::Capsule(s1), Kind::Capsule(s2)) => overlap(&pos12, s1, s2, scratch),
+        _ => query::intersection_test(a.pose, a.shape, b.pose, b.shape)?.intersecting,
+    };
+    Ok(hit)
+}
+
+/// GJK's boolean form: stops as soon as a separating direction is found.
+fn overlap<G1, G2>(pos12: &Pose, g1: &G1, g2: &G2, scratch: &mut Scratch) -> bool
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
+    let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
+    scratch
+        .simplex
+        .reset(CsoPoint::from_shapes(pos12, g1, g2, dir));
+    matches!(
+        gjk::closest_points(pos12, g1, g2, 0.0, false, &mut scratch.simplex),
+        GJKResult::Intersection | GJKResult::Proximity(_)
+    )
+}
+
+/// A ball (world centre `center`, radius `radius`) against a box, cylinder or capsule at
+/// `pose`: `None` when `kind` is none of those, else the signed distance with `point_a` on the
+/// primitive, `point_b` on the ball and the normal pointing from the primitive toward the ball
+///
+/// The closest point of a solid primitive to the centre is exact (clamping); for a centre inside,
+/// the nearest face (or side) gives the penetration depth, as in parry's point projection.
+fn ball_primitive(center: DVec3, radius: f64, kind: &Kind, pose: &Pose) -> Option<Witness> {
+    let c = pose.inverse_transform_point(center);
+    // (point on the primitive's surface, outward unit normal there, signed distance centre-surface)
+    let (surface, normal, signed) = match kind {
+        Kind::Cylinder(cyl) => {
+            let (h, r) = (cyl.half_height, cyl.radius);
+            let rho = (c.x * c.x + c.z * c.z).sqrt();
+            let u = if rho > 0.0 {
+                DVec3::new(c.x / rho, 0.0, c.z / rho)
+            } else {
+                DVec3::X
+            };
+            if c.y.abs() <= h && rho <= r {
+                let (to_cap, to_side) = (h - c.y.abs(), r - rho);
+                if to_side < to_cap {
+                    (DVec3::new(u.x * r, c.y, u.z * r), u, -to_side)
+                } else {
+                    let s = if c.y >= 0.0 { 1.0 } else { -1.0 };
+                    (DVec3::new(c.x, s * h, c.z), DVec3::Y * s, -to_cap)
+                }
+            } else {
+                let radial = if rho > r {
+                    u * r
+                } else {
+                    DVec3::new(c.x, 0.0, c.z)
+                };
+                let p = DVec3::new(radial.x, c.y.clamp(-h, h), radial.z);
+                outside(c, p)
+            }
+        }
+        Kind::Cuboid(b) => {
+            let h = b.half_extents;
+            let inside = c.abs().cmple(h).all();
+            if inside {
+                let gap = h - c.abs();
+                let axis = if gap.x <= gap.y && gap.x <= gap.z {
+                    0
+                } else if gap.y <= gap.z {
+                    1
+                } else {
+                    2
+                };
+                let s = if c[axis] >= 0.0 { 1.0 } else { -1.0 };
+                let mut p = c;
+                p[axis] = s * h[axis];
+                let mut n = DVec3::ZERO;
+                n[axis] = s;
+                (p, n, -gap[axis])
+            } else {
+                outside(c, c.clamp(-h, h))
+            }
+        }
+        Kind::Capsule(cap) => {
+            let (s0, s1) = (cap.segment.a, cap.segment.b);
+            let d = s1 - s0;
+            let len2 = d.length_squared();
+            let t = if len2 > 0.0 {
+                ((c - s0).dot(d) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let on_axis = s0 + d * t;
+            let v = c - on_axis;
+            let l = v.length();
+            let n = if l > 0.0 {
+                v / l
+            } else {
+                d.any_orthonormal_vector()
+            };
+            (on_axis + n * cap.radius, n, l - cap.radius)
+        }
+        _ => return None,
+    };
+    let n = pose.rotation * normal;
+    Some(Witness {
+        distance: signed - radius,
+        point_a: pose.transform_point(surface),
+        point_b: center - n * radius,
+        normal: n,
+    })
+}
+
+/// Surface point `p` of a solid primitive closest to an outside point `c`.
+fn outside(c: DVec3, p: DVec3) -> (DVec3, DVec3, f64) {
+    let d = c - p;
+    let l = d.length();
+    (p, if l > 0.0 { d / l } else { DVec3::X }, l)
+}
+
+/// Outcome of [`cylinder_sides`].
+enum Sides {
+    /// The exact result.
+    Exact(Local),
+    /// Not a side-to-side configuration: run GJK from this direction.
+    Fallback(Vector),
+}
+
+/// Two separated cylinders whose closest points lie on both side surfaces, in closed form.
+///
+/// Parry's cylinders lie along their local y axis. Let the axes' common perpendicular meet them
+/// at heights `s` and `t`. When both are strictly within the cylinders' half heights and the
+/// axes are more than `r1 + r2` apart, the points at `r1` and `r2` along the perpendicular are on
+/// the side surfaces and realise the lower bound `|axis distance| - r1 - r2` (every point of a
+/// cylinder is within its radius of its axis), so they are the closest points. Otherwise the
+/// closest points of the clamped axis segments give GJK a good first direction.
+fn cylinder_sides(pos12: &Pose, c1: &Cylinder, c2: &Cylinder) -> Sides {
+    let center2 = pos12.translation;
+    let axis2 = pos12.rotation * Vector::Y;
+    let cos = axis2.y;
+    let denom = 1.0 - cos * cos;
+    // Axis segments P(s) = s·y, s ∈ [-h1, h1], and Q(t) = center2 + t·axis2, t ∈ [-h2, h2].
+    let (d1, d2) = (-center2.y, -axis2.dot(center2));
+    let (h1, h2) = (c1.half_height, c2.half_height);
+    let fallback = |s: f64, t: f64| {
+        let s = s.clamp(-h1, h1);
+        let t = t.clamp(-h2, h2);
+        let d = center2 + axis2 * t - Vector::Y * s;
+        Sides::Fallback(
+            d.try_normalize()
+                .or_else(|| center2.try_normalize())
+                .unwrap_or(Vector::X),
+        )
+    };
+    if denom < 1e-8 {
+        // Near-parallel axes: the perpendicular is not unique.
+        return fallback(0.0, -d2);
+    }
+    let s = (cos * d2 - d1) / denom;
+    let t = (d2 - cos * d1) / denom;
+    if s.abs() >= h1 || t.abs() >= h2 {
+        return fallback(s, t);
+    }
+    let p = Vector::Y * s;
+    let q = center2 + axis2 * t;
+    let d = q - p;
+    let len = d.length();
+    if len <= c1.radius + c2.radius {
+        return fallback(s, t);
+    }
+    let n = d / len;
+    Sides::Exact((
+        p + n * c1.radius,
+        q - n * c2.radius,
+        n,
+        len - c1.radius - c2.radius,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DQuat;
+
+    /// The closed form agrees with GJK wherever it applies, and defers elsewhere.
+    #[test]
+    fn cylinder_sides_match_gjk() {
+        let c1 = Cylinder::new(0.2, 0.05);
+        let c2 = Cylinder::new(0.1, 0.08);
+        let mut scratch = Scratch::default();
+        let mut exact = 0;
+        for k in 0..400 {
+            let f = f64::from(k);
+            let pos12 = Pose::from_parts(
+                Vector::new(
+                    (f * 0.37).sin() * 0.4,
+                    (f * 0.11).cos() * 0.3,
+                    (f * 0.23).sin() * 0.4,
+                ),
+                DQuat::from_euler(glam::EulerRot::XYZ, f * 0.7, f * 1.3, f * 0.3),
+            );
+            let gjk = support(&pos12, &c1, &c2, f64::INFINITY, &mut scratch).unwrap();
+            if let Sides::Exact(local) = cylinder_sides(&pos12, &c1, &c2) {
+                exact += 1;
+                assert!(
+                    (local.3 - gjk.3).abs() < 1e-7,
+                    "{k}: {} vs {}",
+                    local.3,
+                    gjk.3
+                );
+                assert!((local.0 - gjk.0).length() < 1e-3, "{k}");
+            }
+        }
+        assert!(exact > 20, "only {exact} side-to-side cases");
+    }
+
+    /// The ball closed forms agree with parry's point projection, inside and outside.
+    #[test]
+    fn ball_primitives_match_parry() {
+        let shapes = [
+            SharedShape::cylinder(0.2, 0.1),
+            SharedShape::cuboid(0.1, 0.2, 0.3),
+            SharedShape::capsule_z(0.15, 0.05),
+        ];
+        let mut scratch = Scratch::default();
+        for shape in &shapes {
+            let kind = Kind::of(shape);
+            for k in 0..300 {
+                let f = f64::from(k);
+                let pose = Pose::from_parts(
+                    Vector::new(0.1, -0.2, 0.05),
+                    DQuat::from_euler(glam::EulerRot::XYZ, f * 0.7, f * 1.3, f * 0.3),
+                );
+                let center = Vector::new((f * 0.37).sin(), (f * 0.11).cos(), (f * 0.23).sin())
+                    * 0.35
+                    + pose.translation;
+                let ball = Ball::new(0.04);
+                let ours = ball_primitive(center, ball.radius, &kind, &pose).unwrap();
+                let pos12 = pose.inv_mul(&Pose::from_translation(center));
+                let theirs =
+                    details::contact_convex_polyhedron_ball(&pos12, &**shape, &ball, f64::MAX)
+                        .unwrap();
+                assert!(
+                    (ours.distance - theirs.dist).abs() < 1e-12,
+                    "{k}: {} vs {}",
+                    ours.distance,
+                    theirs.dist
+                );
+                assert!(
+                    (ours.point_a - pose * theirs.point1).length() < 1e-12,
+                    "{k}"
+                );
+                // Through the dispatcher, both orders.
+                let (bk, bp) = (Kind::Ball(ball), Pose::from_translation(center));
+                let ab = proximity(
+                    Posed {
+                        kind: &bk,
+                        shape: &ball,
+                        pose: &bp,
+                    },
+                    Posed {
+                        kind: &kind,
+                        shape: &**shape,
+                        pose: &pose,
+                    },
+                    f64::MAX,
+                    &mut scratch,
+                )
+                .unwrap()
+                .unwrap();
+                assert!(
+                    (ab.distance - theirs.dist).abs() < 1e-12
+                        && (ab.point_b - ours.point_a).length() < 1e-12
+                );
+                assert!((ab.normal + ours.normal).length() < 1e-12);
+            }
+        }
+    }
 }

@@ -56,6 +56,7 @@ pub fn any_collision(
     let mut result = Ok(false);
     let world = &data.world_from_shape;
     let obstacles = &data.obstacles;
+    let scratch = &mut data.scratch;
     let n = cmodel.shapes.len();
     sweep(&mut data.order, &data.aabbs, obstacles, true, |i, j| {
         let (a, b) = (i.min(j), i.max(j));
@@ -64,11 +65,11 @@ pub fn any_collision(
                 return ControlFlow::Continue(());
             }
             let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
-            intersects(&world[a], &*sa.shape, &world[b], &*sb.shape)
+            intersects(sa.posed(&world[a]), sb.posed(&world[b]), scratch)
                 .map_err(|_| unsupported(sa.name(), sb.name()))
         } else {
             let (s, o) = (&cmodel.shapes[a], obstacle(obstacles, b - n));
-            intersects(&world[a], &*s.shape, &o.pose, &*o.shape)
+            intersects(s.posed(&world[a]), o.posed(), scratch)
                 .map_err(|_| unsupported(s.name(), o.name()))
         };
         match outcome {
@@ -110,7 +111,7 @@ pub fn self_collisions<'d>(
             return ControlFlow::Continue(());
         }
         let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
-        match proximity(&world[a], &*sa.shape, &world[b], &*sb.shape, 0.0, scratch) {
+        match proximity(sa.posed(&world[a]), sb.posed(&world[b]), 0.0, scratch) {
             Ok(Some(w)) => contacts.push(with_ids(w, a, b)),
             Ok(None) => {}
             Err(_) => {
@@ -150,7 +151,7 @@ pub fn world_collisions<'d>(
             return ControlFlow::Continue(());
         }
         let (s, o) = (&cmodel.shapes[a], obstacle(obstacles, b - n));
-        match proximity(&world[a], &*s.shape, &o.pose, &*o.shape, 0.0, scratch) {
+        match proximity(s.posed(&world[a]), o.posed(), 0.0, scratch) {
             Ok(Some(w)) => contacts.push(with_ids(w, a, b - n)),
             Ok(None) => {}
             Err(_) => {
@@ -211,10 +212,8 @@ pub fn compute_distances<'d>(
         let (a, b) = (pair.shape_a, pair.shape_b);
         let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
         let w = proximity(
-            &world[a],
-            &*sa.shape,
-            &world[b],
-            &*sb.shape,
+            sa.posed(&world[a]),
+            sb.posed(&world[b]),
             f64::INFINITY,
             &mut data.scratch,
         )
@@ -254,10 +253,8 @@ pub fn compute_world_distances<'d>(
         for (k, o) in data.obstacles.iter().enumerate() {
             let Some(o) = o else { continue };
             let w = proximity(
-                &world[a],
-                &*s.shape,
-                &o.pose,
-                &*o.shape,
+                s.posed(&world[a]),
+                o.posed(),
                 f64::INFINITY,
                 &mut data.scratch,
             )
