@@ -2,6 +2,7 @@
 
 use crate::data::DynamicsData;
 use crate::error::DynamicsError;
+use crate::joint_ops::{Factored, Kind, act_force, axis_momentum, project_1dof};
 use crate::rnea::check_inputs;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Force;
@@ -55,60 +56,112 @@ pub fn crba<'d>(
 }
 
 /// The CRBA sweeps (inputs already checked).
+///
+/// Body-local composite inertias (Pinocchio's `Convention::LOCAL`); each body's force columns
+/// `Icᵢ·Sᵢ` are carried up to every ancestor with the factored transforms (joint rotation,
+/// placement rotation, translation), which cost a few multiplications for axis-aligned joints
+/// and placements.
 pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
     let bodies = model.bodies();
     let joint_models = data.kinematics.joint_models();
     let nv = data.nv;
     for i in 1..bodies.len() {
         let b = &bodies[i];
-        data.parent_from_body[i] =
-            joint_models[i].placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
-        data.composite[i] = b.inertia;
+        let (x, f) = Factored::with_se3(
+            &joint_models[i],
+            &b.placement,
+            data.placement_rot[i],
+            &q[b.idx_q..b.idx_q + b.nq],
+        );
+        data.parent_from_body[i] = x;
+        data.factored[i] = f;
+        data.composite[i] = data.body_inertia[i];
     }
     let m = &mut data.mass_matrix;
+    let kinds = &data.kinds;
     let mut f = [Force::ZERO; 6];
     let mut col = [0.0; 6];
     for i in (1..bodies.len()).rev() {
         let b = &bodies[i];
-        let jm = &joint_models[i];
         let (iv, ni) = (b.idx_v, b.nv);
         let ic = data.composite[i];
-        for k in 0..ni {
-            f[k] = ic.mul_motion(&jm.subspace_column(k));
-        }
-        // Diagonal block: Sᵢᵀ·Icᵢ·Sᵢ.
-        for k in 0..ni {
-            jm.project_force(&f[k], &mut col[..ni]);
-            for l in k..ni {
-                m[(iv + l) * nv + iv + k] = col[l];
-                m[(iv + k) * nv + iv + l] = col[l];
+        // F = Icᵢ·Sᵢ and the diagonal block Sᵢᵀ·Icᵢ·Sᵢ.
+        let f0 = match kinds[i] {
+            Kind::RevoluteAxis(0) => axis_momentum::<0, true>(&ic),
+            Kind::RevoluteAxis(1) => axis_momentum::<1, true>(&ic),
+            Kind::RevoluteAxis(_) => axis_momentum::<2, true>(&ic),
+            Kind::PrismaticAxis(0) => axis_momentum::<0, false>(&ic),
+            Kind::PrismaticAxis(1) => axis_momentum::<1, false>(&ic),
+            Kind::PrismaticAxis(_) => axis_momentum::<2, false>(&ic),
+            Kind::Other => {
+                let jm = &joint_models[i];
+                for k in 0..ni {
+                    f[k] = ic.mul_motion(&jm.subspace_column(k));
+                }
+                for k in 0..ni {
+                    jm.project_force(&f[k], &mut col[..ni]);
+                    for l in k..ni {
+                        m[(iv + l) * nv + iv + k] = col[l];
+                        m[(iv + k) * nv + iv + l] = col[l];
+                    }
+                }
+                f[0]
             }
-        }
-        // Off-diagonal blocks: carry the forces up to every ancestor.
-        let mut j = i;
-        loop {
-            let p = bodies[j].parent;
-            if p == 0 {
-                break;
+        };
+        if ni == 1 {
+            // The common case, one column: carry it up to every ancestor.
+            let mut fk = f0;
+            if let Some(d) = project_1dof(kinds[i], &fk) {
+                m[iv * nv + iv] = d;
             }
-            let x = &data.parent_from_body[j];
-            for fk in f[..ni].iter_mut() {
-                *fk = x.act_force(fk);
+            let mut j = i;
+            loop {
+                let p = bodies[j].parent;
+                if p == 0 {
+                    break;
+                }
+                fk = act_force(&data.parent_from_body[j], &fk);
+                j = p;
+                let jv = bodies[j].idx_v;
+                match project_1dof(kinds[j], &fk) {
+                    Some(x) => {
+                        m[jv * nv + iv] = x;
+                        m[iv * nv + jv] = x;
+                    }
+                    None => {
+                        let nj = bodies[j].nv;
+                        joint_models[j].project_force(&fk, &mut col[..nj]);
+                        for l in 0..nj {
+                            m[(jv + l) * nv + iv] = col[l];
+                            m[iv * nv + jv + l] = col[l];
+                        }
+                    }
+                }
             }
-            j = p;
-            let bj = &bodies[j];
-            let (jv, nj) = (bj.idx_v, bj.nv);
-            for k in 0..ni {
-                joint_models[j].project_force(&f[k], &mut col[..nj]);
-                for l in 0..nj {
-                    m[(jv + l) * nv + iv + k] = col[l];
-                    m[(iv + k) * nv + jv + l] = col[l];
+        } else {
+            let mut j = i;
+            loop {
+                let p = bodies[j].parent;
+                if p == 0 {
+                    break;
+                }
+                for fk in f[..ni].iter_mut() {
+                    *fk = act_force(&data.parent_from_body[j], fk);
+                }
+                j = p;
+                let (jv, nj) = (bodies[j].idx_v, bodies[j].nv);
+                for k in 0..ni {
+                    joint_models[j].project_force(&f[k], &mut col[..nj]);
+                    for l in 0..nj {
+                        m[(jv + l) * nv + iv + k] = col[l];
+                        m[(iv + k) * nv + jv + l] = col[l];
+                    }
                 }
             }
         }
         if b.parent != 0 {
-            let moved = ic.transformed(&data.parent_from_body[i]);
-            data.composite[b.parent] += moved;
+            let moved = data.factored[i].act_inertia(&ic);
+            data.composite[b.parent].add_assign(&moved);
         }
     }
     if data.has_joint_terms {

@@ -2,10 +2,11 @@
 
 use crate::aba::ArticulatedInertia;
 use crate::error::DynamicsError;
+use crate::joint_ops::{Factored, Kind, OriginInertia, Rot};
 use kinetree_kinematics::KinematicsData;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::{Force, Inertia, Motion, Se3};
+use kinetree_kinematics::spatial::{Force, Motion, Se3};
 
 /// Marks "no parent" in the degree-of-freedom parent array.
 pub(crate) const NO_PARENT: usize = usize::MAX;
@@ -74,7 +75,15 @@ pub struct DynamicsData {
     pub(crate) velocity: Vec<Motion>,
     pub(crate) acceleration: Vec<Motion>,
     pub(crate) force: Vec<Force>,
-    pub(crate) composite: Vec<Inertia>,
+    pub(crate) composite: Vec<OriginInertia>,
+    /// Each body's inertia about its origin (constant, from the model).
+    pub(crate) body_inertia: Vec<OriginInertia>,
+    /// The form of each body's placement rotation (constant, from the model).
+    pub(crate) placement_rot: Vec<Rot>,
+    /// The dispatch kind of each body's joint (constant, from the model).
+    pub(crate) kinds: Vec<Kind>,
+    /// `parent_from_body` of the last sweep, factored.
+    pub(crate) factored: Vec<Factored>,
     pub(crate) articulated: Vec<ArticulatedInertia>,
     pub(crate) bias: Vec<Motion>,
     /// Offset of each body's block in `dinv` (sum of the squares of the preceding `nv`s).
@@ -149,8 +158,10 @@ impl DynamicsData {
                 last_dof[b.parent]
             };
         }
+        let kinematics = KinematicsData::new(model);
+        let kinds = kinematics.joint_models().iter().map(Kind::of).collect();
         let mut data = Self {
-            kinematics: KinematicsData::new(model),
+            kinematics,
             nq: model.nq(),
             nv,
             nbodies: nb,
@@ -169,7 +180,17 @@ impl DynamicsData {
             velocity: vec![Motion::ZERO; nb],
             acceleration: vec![Motion::ZERO; nb],
             force: vec![Force::ZERO; nb],
-            composite: vec![Inertia::ZERO; nb],
+            composite: vec![OriginInertia::ZERO; nb],
+            body_inertia: bodies
+                .iter()
+                .map(|b| OriginInertia::from_inertia(&b.inertia))
+                .collect(),
+            placement_rot: bodies
+                .iter()
+                .map(|b| Rot::classify(&b.placement.rotation))
+                .collect(),
+            factored: vec![Factored::IDENTITY; nb],
+            kinds,
             articulated: vec![ArticulatedInertia::ZERO; nb],
             bias: vec![Motion::ZERO; nb],
             subspace: vec![Motion::ZERO; nv],

@@ -70,6 +70,7 @@ mod external;
 pub mod exudyn;
 mod factor;
 mod integrator;
+mod joint_ops;
 mod rnea;
 
 pub use aba::{aba, aba_with_external_forces};

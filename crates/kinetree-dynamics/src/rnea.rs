@@ -3,9 +3,10 @@
 use crate::data::{DynamicsData, sign};
 use crate::error::{DynamicsError, check_vector};
 use crate::external::ExternalForces;
+use crate::joint_ops::{Kind, act_force, cross_axis, inv_motion, placed_transform};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::{Force, Motion};
+use kinetree_kinematics::spatial::{Motion, Se3};
 
 /// Which output buffer a sweep writes.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -169,40 +170,70 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
     for i in 1..bodies.len() {
         let b = &bodies[i];
         let jm = &joint_models[i];
-        let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        let x = placed_transform(jm, &b.placement, &q[b.idx_q..b.idx_q + b.nq]);
         data.parent_from_body[i] = x;
+        let p = b.parent;
         if world {
-            data.world_from_body[i] = if b.parent == 0 {
+            data.world_from_body[i] = if p == 0 {
                 x
             } else {
-                data.world_from_body[b.parent] * x
+                data.world_from_body[p] * x
             };
         }
-        let parent_a = if b.parent == 0 {
-            a0
+        let parent_a = if p == 0 { a0 } else { data.acceleration[p] };
+        let parent_v = if VEL && p != 0 {
+            data.velocity[p]
         } else {
-            data.acceleration[b.parent]
+            Motion::ZERO
         };
-        let mut ai = x.act_inv_motion(&parent_a);
-        if ACC {
-            ai += jm.motion(&a[b.idx_v..b.idx_v + b.nv]);
-        }
+        let scalar = |s: &[f64]| if s.is_empty() { 0.0 } else { s[b.idx_v] };
+        let (qd, qdd) = (scalar(v), scalar(a));
+        let (vi, ai) = match Kind::of(jm) {
+            Kind::RevoluteAxis(0) => {
+                body::<VEL, ACC, 0, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
+            Kind::RevoluteAxis(1) => {
+                body::<VEL, ACC, 1, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
+            Kind::RevoluteAxis(_) => {
+                body::<VEL, ACC, 2, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
+            Kind::PrismaticAxis(0) => {
+                body::<VEL, ACC, 0, false>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
+            Kind::PrismaticAxis(1) => {
+                body::<VEL, ACC, 1, false>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
+            Kind::PrismaticAxis(_) => {
+                body::<VEL, ACC, 2, false>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
+            Kind::Other => {
+                let r = b.idx_v..b.idx_v + b.nv;
+                let mut ai = inv_motion(&x, &parent_a);
+                if ACC {
+                    ai += jm.motion(&a[r.clone()]);
+                }
+                let mut vi = Motion::ZERO;
+                if VEL {
+                    let vj = jm.motion(&v[r]);
+                    vi = if p == 0 {
+                        vj
+                    } else {
+                        inv_motion(&x, &parent_v) + vj
+                    };
+                    ai += vi.cross_motion(&vj);
+                }
+                (vi, ai)
+            }
+        };
         let inertia = &b.inertia;
-        let mut f = Force::ZERO;
+        let mut f = inertia.mul_motion(&ai);
         if VEL {
-            let vj = jm.motion(&v[b.idx_v..b.idx_v + b.nv]);
-            let vi = if b.parent == 0 {
-                vj
-            } else {
-                let vi = x.act_inv_motion(&data.velocity[b.parent]) + vj;
-                ai += vi.cross_motion(&vj);
-                vi
-            };
             data.velocity[i] = vi;
-            f = vi.cross_force(&inertia.mul_motion(&vi));
+            f += vi.cross_force(&inertia.mul_motion(&vi));
         }
         data.acceleration[i] = ai;
-        data.force[i] = f + inertia.mul_motion(&ai);
+        data.force[i] = f;
     }
     if let Some(fext) = fext {
         let force = &mut data.force;
@@ -216,9 +247,14 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
     for i in (1..bodies.len()).rev() {
         let b = &bodies[i];
         let fi = data.force[i];
-        joint_models[i].project_force(&fi, &mut out[b.idx_v..b.idx_v + b.nv]);
+        let jm = &joint_models[i];
+        match Kind::of(jm) {
+            Kind::RevoluteAxis(k) => out[b.idx_v] = fi.angular[k],
+            Kind::PrismaticAxis(k) => out[b.idx_v] = fi.linear[k],
+            Kind::Other => jm.project_force(&fi, &mut out[b.idx_v..b.idx_v + b.nv]),
+        }
         if b.parent != 0 {
-            let fp = data.parent_from_body[i].act_force(&fi);
+            let fp = act_force(&data.parent_from_body[i], &fi);
             data.force[b.parent] += fp;
         }
     }
@@ -234,4 +270,41 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
             out[k] += t;
         }
     }
+}
+
+/// Velocity and acceleration of a body whose joint is revolute about (`REV`) or prismatic along
+/// its axis `K`, from the parent's (in the parent frame) and the joint rates `qd`, `qdd`.
+#[inline(always)]
+fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool>(
+    x: &Se3,
+    parent: usize,
+    parent_v: &Motion,
+    parent_a: &Motion,
+    qd: f64,
+    qdd: f64,
+) -> (Motion, Motion) {
+    let mut ai = inv_motion(x, parent_a);
+    if ACC {
+        if REV {
+            ai.angular[K] += qdd;
+        } else {
+            ai.linear[K] += qdd;
+        }
+    }
+    let mut vi = Motion::ZERO;
+    if VEL {
+        if parent != 0 {
+            vi = inv_motion(x, parent_v);
+        }
+        // a += v ×ₘ vj, with vj = qd·e_K (angular or linear); exactly zero when v = vj.
+        if REV {
+            vi.angular[K] += qd;
+            ai.linear += cross_axis::<K>(vi.linear, qd);
+            ai.angular += cross_axis::<K>(vi.angular, qd);
+        } else {
+            vi.linear[K] += qd;
+            ai.linear += cross_axis::<K>(vi.angular, qd);
+        }
+    }
+    (vi, ai)
 }
