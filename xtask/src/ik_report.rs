@@ -79,14 +79,14 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
          starts, {changed}; success = position < 1e-6 m, orientation < 1e-5 rad, within limits\n"
     );
     println!(
-        "| robot | targets | success % | median µs | p95 µs | max µs | mean restarts | mean iterations | p99 / max iterations |"
+        "| robot | targets | success % | median µs | p95 µs | max µs | mean restarts | mean iterations | p99 / max iterations | ns / iteration |"
     );
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut all_ok = true;
     for robot in ROBOTS {
         let row = robot_report(robot, n, seed, &params)?;
         println!(
-            "| {robot} | {} | {:.2} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1} | {} / {} |",
+            "| {robot} | {} | {:.2} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1} | {} / {} | {:.0} |",
             row.targets,
             100.0 * row.successes as f64 / row.targets as f64,
             micros(row.median),
@@ -96,6 +96,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
             row.mean_iterations,
             row.p99_iterations,
             row.max_iterations,
+            row.ns_per_iteration,
         );
         for f in &row.failures {
             println!("    failure: {f}");
@@ -127,6 +128,8 @@ pub(crate) struct RobotRow {
     mean_iterations: f64,
     p99_iterations: usize,
     max_iterations: usize,
+    /// Median over the solves of time / iterations (robust to the machine's hiccups).
+    ns_per_iteration: f64,
     failures: Vec<String>,
 }
 
@@ -157,6 +160,7 @@ fn set_param(params: &mut IkParams, assignment: &str) -> Result<()> {
         }
         "seed" => params.seed = value.parse().context("seed")?,
         "damping" => params.damping = float()?,
+        "orientation_weight" => params.orientation_weight = float()?,
         "damping_floor" => params.damping_floor = float()?,
         "max_step" => params.max_step = float()?,
         "min_progress" => params.min_progress = float()?,
@@ -189,7 +193,9 @@ fn random_arm_q(model: &Model, arm: &[usize], rng: &mut SplitMix) -> Result<Vec<
         let lim = &model.joint(body.joint.unwrap_or(0)).limits;
         let (lo, hi) = match body.kind {
             JointKind::Continuous => (-PI, PI),
-            JointKind::Revolute if !(lim.upper - lim.lower < 2.0 * PI) => (-PI, PI),
+            JointKind::Revolute if lim.upper - lim.lower >= 2.0 * PI || lim.upper <= lim.lower => {
+                (-PI, PI)
+            }
             JointKind::Revolute | JointKind::Prismatic => (lim.lower, lim.upper),
             other => bail!("ik-report samples 1-DoF arms only, found a {other} joint"),
         };
@@ -294,6 +300,7 @@ pub(crate) fn robot_report(
     let mut sorted = times.clone();
     sorted.sort();
     let at = |f: f64| sorted[((sorted.len() as f64 - 1.0) * f).round() as usize];
+    let per_solve_iterations = iteration_counts.clone();
     iteration_counts.sort_unstable();
     let p99 = iteration_counts[((iteration_counts.len() as f64 - 1.0) * 0.99).round() as usize];
     Ok(RobotRow {
@@ -306,6 +313,15 @@ pub(crate) fn robot_report(
         mean_iterations: iterations as f64 / goals.len() as f64,
         p99_iterations: p99,
         max_iterations: *iteration_counts.last().context("no targets")?,
+        ns_per_iteration: {
+            let mut per: Vec<f64> = times
+                .iter()
+                .zip(&per_solve_iterations)
+                .map(|(t, i)| t.as_secs_f64() * 1e9 / (*i).max(1) as f64)
+                .collect();
+            per.sort_by(f64::total_cmp);
+            per[per.len() / 2]
+        },
         failures,
     })
 }

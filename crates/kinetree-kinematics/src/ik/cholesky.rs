@@ -1,4 +1,4 @@
-//! A small dense Cholesky factorisation for the solver's normal equations.
+//! A small dense Cholesky (LDLᵀ) factorisation for the solver's normal equations.
 //!
 //! The systems are `(JᵀJ + λI)` with `n` = the number of moving coordinates (6 or 7 for an arm, up
 //! to a few dozen for a humanoid). At these sizes a plain row-oriented loop beats faer's blocked
@@ -7,7 +7,7 @@
 
 /// The dot product of two equally long slices (four accumulators, so it vectorises).
 #[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
     let mut s = [0.0f64; 4];
@@ -27,38 +27,48 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Factorises the symmetric positive definite `n x n` matrix `a` (row-major; only the lower
-/// triangle is read) in place into `L` with `a = L Lᵀ` (lower triangle). Returns `false` when a
-/// pivot is not positive (the matrix is not numerically positive definite).
-pub(crate) fn factor(a: &mut [f64], n: usize) -> bool {
+/// triangle is read) in place as `a = L D Lᵀ`: the strict lower triangle of `a` becomes the unit
+/// lower-triangular `L` and `inv_d` (length `n`) receives `1 / D`. No square root, one division
+/// per pivot. Returns `false` when a pivot is not positive (the matrix is not numerically
+/// positive definite).
+pub(crate) fn factor(a: &mut [f64], n: usize, inv_d: &mut [f64]) -> bool {
     for i in 0..n {
         let (done, rest) = a.split_at_mut(i * n);
         let row = &mut rest[..n];
+        // First u_j = L_ij · D_j, from the finished rows of L.
         for j in 0..i {
-            let lj = &done[j * n..j * n + j + 1];
-            row[j] = (row[j] - dot(&row[..j], &lj[..j])) / lj[j];
+            row[j] -= dot(&row[..j], &done[j * n..j * n + j]);
         }
-        let d = row[i] - dot(&row[..i], &row[..i]);
+        // Then D_i = a_ii - Σ u_k L_ik, and L_ik = u_k / D_k.
+        let mut d = row[i];
+        for k in 0..i {
+            let l = row[k] * inv_d[k];
+            d -= row[k] * l;
+            row[k] = l;
+        }
         // Also rejects NaN.
         if d.is_nan() || d <= 0.0 {
             return false;
         }
-        row[i] = d.sqrt();
+        inv_d[i] = 1.0 / d;
     }
     true
 }
 
-/// Solves `L Lᵀ x = b` in place (`b` becomes `x`) with the factor from [`factor`].
-pub(crate) fn solve(l: &[f64], n: usize, b: &mut [f64]) {
+/// Solves `L D Lᵀ x = b` in place (`b` becomes `x`) with the factor from [`factor`].
+pub(crate) fn solve(l: &[f64], n: usize, inv_d: &[f64], b: &mut [f64]) {
     for i in 0..n {
-        let row = &l[i * n..i * n + i + 1];
-        b[i] = (b[i] - dot(&row[..i], &b[..i])) / row[i];
+        b[i] -= dot(&l[i * n..i * n + i], &b[..i]);
+    }
+    for (bi, id) in b[..n].iter_mut().zip(inv_d) {
+        *bi *= id;
     }
     for i in (0..n).rev() {
         let mut s = b[i];
         for k in i + 1..n {
             s -= l[k * n + i] * b[k];
         }
-        b[i] = s / l[i * n + i];
+        b[i] = s;
     }
 }
 
@@ -85,8 +95,9 @@ mod tests {
                 .map(|r| (0..n).map(|c| a[r * n + c] * x[c]).sum())
                 .collect();
             let mut l = a.clone();
-            assert!(factor(&mut l, n));
-            solve(&l, n, &mut b);
+            let mut inv = vec![0.0; n];
+            assert!(factor(&mut l, n, &mut inv));
+            solve(&l, n, &inv, &mut b);
             for (xi, bi) in x.iter().zip(&b) {
                 assert!((xi - bi).abs() < 1e-8 * n as f64, "n = {n}: {xi} vs {bi}");
             }
@@ -95,9 +106,10 @@ mod tests {
 
     #[test]
     fn rejects_an_indefinite_matrix() {
+        let mut inv = [0.0; 2];
         let mut a = [1.0, 2.0, 2.0, 1.0];
-        assert!(!factor(&mut a, 2));
+        assert!(!factor(&mut a, 2, &mut inv));
         let mut nan = [f64::NAN];
-        assert!(!factor(&mut nan, 1));
+        assert!(!factor(&mut nan, 1, &mut inv));
     }
 }

@@ -47,10 +47,16 @@ pub struct IkParams {
     pub seed: u64,
     /// Most targets one solve may take (the solver's buffers are sized for them). Default 4.
     pub max_targets: usize,
+    /// How much one radian of orientation error counts against one metre of position error in
+    /// the minimised cost (metres per radian), on top of each target's weights. It changes the
+    /// path to a reachable target (not where it ends), and the compromise for an unreachable one.
+    /// Default 0.35, about a third of a 1-metre arm's reach, which shortens the solves of 6- and
+    /// 7-DoF arms by a sixth compared with 1.
+    pub orientation_weight: f64,
     /// Levenberg–Marquardt damping relative to the error: the damping added to `JᵀJ` is
     /// `λ = μ · (½|r|² + damping_floor)`, with `μ` starting at this value and adapted by the
     /// gain ratio of each step (down when the error model predicts the step well, up when a step
-    /// is rejected). Default 1.0.
+    /// is rejected). Default 0.1.
     pub damping: f64,
     /// Error-independent part of the damping (keeps `JᵀJ + λI` well conditioned at
     /// singularities; small enough not to slow the final quadratic convergence). Default 1e-9.
@@ -59,9 +65,11 @@ pub struct IkParams {
     /// down. Default 1.0.
     pub max_step: f64,
     /// A try is abandoned when `patience` consecutive accepted steps each reduce the squared error
-    /// by less than this fraction (a local minimum or a slow crawl along a limit). Default 0.1.
+    /// by less than this fraction (a local minimum or a slow crawl along a limit): from a random
+    /// start a try either converges quickly or not at all, and a fresh start is cheaper than a
+    /// crawl. Default 0.2.
     pub min_progress: f64,
-    /// See [`min_progress`](Self::min_progress). Default 6.
+    /// See [`min_progress`](Self::min_progress). Default 2.
     pub patience: usize,
 }
 
@@ -76,11 +84,12 @@ impl Default for IkParams {
             time_budget: Some(Duration::from_millis(5)),
             seed: 0,
             max_targets: 4,
-            damping: 1.0,
+            orientation_weight: 0.35,
+            damping: 0.1,
             damping_floor: 1e-9,
             max_step: 1.0,
-            min_progress: 0.1,
-            patience: 6,
+            min_progress: 0.2,
+            patience: 2,
         }
     }
 }

@@ -18,7 +18,7 @@
 //!    seed, `q0`, then random configurations of the moving joints.
 
 use super::analytic::IkSeeder;
-use super::cholesky;
+use super::cholesky::{self, dot};
 use super::params::IkParams;
 use super::report::{IkIterate, IkReport, IkStatus};
 use super::target::IkTarget;
@@ -136,7 +136,7 @@ struct Workspace {
     ntargets: usize,
     /// Number of residual rows.
     m: usize,
-    /// Weighted Jacobian, column-major (column `c` is `jac[c*m..(c+1)*m]`).
+    /// Weighted Jacobian, row-major (row `k` is `jac[k*n..(k+1)*n]`, `n` moving coordinates).
     jac: Vec<f64>,
     r: Vec<f64>,
     r_trial: Vec<f64>,
@@ -144,6 +144,8 @@ struct Workspace {
     g: Vec<f64>,
     h: Vec<f64>,
     chol: Vec<f64>,
+    /// `1 / D` of the `L D Lᵀ` factorisation.
+    inv_diag: Vec<f64>,
     rhs: Vec<f64>,
     step: Vec<f64>,
     z: Vec<f64>,
@@ -178,6 +180,7 @@ impl Workspace {
             g: vec![0.0; nv],
             h: vec![0.0; nv * nv],
             chol: vec![0.0; nv * nv],
+            inv_diag: vec![0.0; nv],
             rhs: vec![0.0; nv],
             step: vec![0.0; nv],
             z: vec![0.0; nv],
@@ -257,19 +260,20 @@ impl Workspace {
             let b = &bodies[body];
             let col = data.world_from_body[body]
                 .act_motion(&data.joint_models[body].subspace_column(self.dof_local[c]));
-            let out = &mut self.jac[c * m..(c + 1) * m];
             for t in &self.targets[..self.ntargets] {
-                let rows = &mut out[t.offset..t.offset + t.nrows];
+                let rows = t.offset..t.offset + t.nrows;
                 if body <= t.body && t.body < b.subtree_end {
                     let v = col.linear + col.angular.cross(t.frame_position);
                     let lin = t.rot_t * v;
                     let ang = t.ang_map * col.angular;
                     let comp = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
-                    for (o, &a) in rows.iter_mut().zip(&t.rows[..t.nrows]) {
-                        *o = t.weights[a] * comp[a];
+                    for (k, &a) in rows.zip(&t.rows[..t.nrows]) {
+                        self.jac[k * n + c] = t.weights[a] * comp[a];
                     }
                 } else {
-                    rows.fill(0.0);
+                    for k in rows {
+                        self.jac[k * n + c] = 0.0;
+                    }
                 }
             }
         }
@@ -279,37 +283,39 @@ impl Workspace {
             let col = data.world_from_body[body]
                 .act_motion(&data.joint_models[body].subspace_column(0))
                 * multiplier;
-            let out = &mut self.jac[c * m..(c + 1) * m];
             for t in &self.targets[..self.ntargets] {
                 if body <= t.body && t.body < b.subtree_end {
                     let v = col.linear + col.angular.cross(t.frame_position);
                     let lin = t.rot_t * v;
                     let ang = t.ang_map * col.angular;
                     let comp = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
-                    let rows = &mut out[t.offset..t.offset + t.nrows];
-                    for (o, &a) in rows.iter_mut().zip(&t.rows[..t.nrows]) {
-                        *o += t.weights[a] * comp[a];
+                    for (k, &a) in (t.offset..t.offset + t.nrows).zip(&t.rows[..t.nrows]) {
+                        self.jac[k * n + c] += t.weights[a] * comp[a];
                     }
                 }
             }
         }
-        let jac = &self.jac[..n * m];
-        let r = &self.r[..m];
-        for i in 0..n {
-            let ci = &jac[i * m..(i + 1) * m];
-            self.g[i] = dot(ci, r);
-            for j in 0..=i {
-                let v = dot(ci, &jac[j * m..(j + 1) * m]);
-                self.h[i * n + j] = v;
-                self.h[j * n + i] = v;
+        // g = Jᵀr and h = JᵀJ as sums of one outer product per row: independent accumulators
+        // that vectorise, and zero entries (other targets' rows) skipped.
+        let g = &mut self.g[..n];
+        let h = &mut self.h[..n * n];
+        g.fill(0.0);
+        h.fill(0.0);
+        for k in 0..m {
+            let row = &self.jac[k * n..(k + 1) * n];
+            let rk = self.r[k];
+            for (gi, a) in g.iter_mut().zip(row) {
+                *gi += a * rk;
+            }
+            for (i, &a) in row.iter().enumerate() {
+                if a != 0.0 {
+                    for (hij, b) in h[i * n..(i + 1) * n].iter_mut().zip(row) {
+                        *hij += a * b;
+                    }
+                }
             }
         }
     }
-}
-
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// A boxed iterate observer (see [`IkSolver::set_observer`]).
@@ -837,6 +843,9 @@ impl IkSolver {
                     s.rows[s.nrows] = a;
                     s.nrows += 1;
                 }
+                if a >= 3 {
+                    s.weights[a] *= self.params.orientation_weight;
+                }
             }
             if s.nrows == 0 {
                 return Err(KinematicsError::InvalidTarget {
@@ -955,7 +964,11 @@ fn step(
         let f = ws.free.len();
         // rhs = -(g + H z) on the free coordinates.
         for (a, &i) in ws.free.iter().enumerate() {
-            ws.rhs[a] = -(ws.g[i] + dot(&h[i * n..(i + 1) * n], &ws.z[..n]));
+            ws.rhs[a] = if posture.is_some() {
+                -(ws.g[i] + dot(&h[i * n..(i + 1) * n], &ws.z[..n]))
+            } else {
+                -ws.g[i]
+            };
         }
         let chol = &mut ws.chol[..f * f];
         for (a, &i) in ws.free.iter().enumerate() {
@@ -964,10 +977,10 @@ fn step(
             }
             chol[a * f + a] += lambda;
         }
-        if !cholesky::factor(chol, f) {
+        if !cholesky::factor(chol, f, &mut ws.inv_diag[..f]) {
             return None;
         }
-        cholesky::solve(chol, f, &mut ws.rhs[..f]);
+        cholesky::solve(chol, f, &ws.inv_diag[..f], &mut ws.rhs[..f]);
         ws.step[..n].copy_from_slice(&ws.z[..n]);
         for (a, &i) in ws.free.iter().enumerate() {
             ws.step[i] += ws.rhs[a];

@@ -593,7 +593,8 @@ fn analytic_two_link_arm_and_seeding() {
         .solve(&model, &mut data, &far, &[0.3, 0.3])
         .unwrap();
     assert!(matches!(report.status, IkStatus::BestEffort { .. }));
-    assert!((report.position_error - 0.7).abs() < 1e-6);
+    // The best iterate met, not necessarily the exact optimum (the arm stretched straight out).
+    assert!(report.position_error > 0.7 && report.position_error < 0.7 + 1e-3);
     assert!(matches!(
         arm.seeder(&model, "joint1", "nope", Se3::IDENTITY),
         Err(KinematicsError::UnknownJoint { .. })
