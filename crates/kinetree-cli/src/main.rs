@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod cmd;
+mod plot;
 mod table;
 
 /// Kinematics, dynamics and collision of articulated rigid bodies (URDF and JSON robots).
@@ -28,6 +29,10 @@ enum Command {
     Compute(cmd::compute::Args),
     /// Time each algorithm on random in-limit states of a model (median ns/call).
     Bench(cmd::bench::Args),
+    /// Inverse dynamics (τ), forward dynamics (q̈) and the mass matrix of one state, by joint name.
+    Dynamics(cmd::dynamics::Args),
+    /// Integrate the equations of motion from a state; report and plot joint positions and energy.
+    Simulate(cmd::simulate::Args),
     /// Sample where a frame can reach: bounds, reach, volume, manipulability, files and a plot.
     Workspace(cmd::workspace::Args),
     // Later commands slot in here, one module each: dynamics, ik, workspace, collide, simulate.
@@ -41,6 +46,8 @@ fn main() -> ExitCode {
         Command::Compute(args) => cmd::compute::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),
         Command::Workspace(args) => cmd::workspace::run(&args),
+        Command::Dynamics(args) => cmd::dynamics::run(&args),
+        Command::Simulate(args) => cmd::simulate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

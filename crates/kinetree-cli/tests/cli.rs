@@ -344,10 +344,96 @@ fn bench_prints_stable_json_keys() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
     assert_eq!(v["nq"], 9);
-    for key in ["fk", "fk_frames", "frame_jacobian", "joint_jacobians"] {
+    for key in [
+        "fk",
+        "fk_frames",
+        "frame_jacobian",
+        "joint_jacobians",
+        "rnea",
+        "nle",
+        "crba",
+        "aba",
+        "minv",
+    ] {
         assert!(
             v["ns_per_call"][key].as_f64().is_some_and(|x| x > 0.0),
             "{key}"
         );
     }
+}
+
+#[test]
+fn dynamics_prints_torques_that_aba_inverts() {
+    // A pendulum about y with its 1 kg bob 0.5 m along x: gravity pulls with +m·g·l = 4.905 N·m
+    // about y, so holding it at rest takes τ = -4.905 N·m, and that torque gives zero acceleration.
+    let dir = scratch("dynamics");
+    let urdf = dir.join("pendulum.urdf");
+    std::fs::write(&urdf, r#"<robot name="p"><link name="base"/>
+      <link name="bob"><inertial><origin xyz="0.5 0 0"/><mass value="1"/>
+        <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+      <joint name="hinge" type="continuous"><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/></joint>
+    </robot>"#).unwrap();
+    let o = kinetree(&[
+        "dynamics",
+        urdf.to_str().unwrap(),
+        "--a",
+        "hinge=0",
+        "--tau",
+        "hinge=-4.905",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = format!("\n{}", stdout(&o));
+    let tau = section(&text, "tau");
+    assert!(
+        (row(tau, "hinge")[1].parse::<f64>().unwrap() + 4.905).abs() < 1e-6,
+        "{text}"
+    );
+    let ddq = section(&text, "ddq");
+    assert!(
+        row(ddq, "hinge")[1].parse::<f64>().unwrap().abs() < 1e-6,
+        "{text}"
+    );
+    // M = m·l² = 0.25 kg·m².
+    assert!(text.contains("0.25000"), "{text}");
+    let o = kinetree(&[
+        "dynamics",
+        urdf.to_str().unwrap(),
+        "--q",
+        "elbow=1",
+        "--a",
+        "hinge=0",
+    ]);
+    assert!(!o.status.success() && stderr(&o).contains("elbow"));
+}
+
+#[test]
+fn simulate_conserves_energy_and_writes_a_plot() {
+    let dir = scratch("simulate");
+    let plot = dir.join("energy.svg");
+    let urdf = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/reference/urdf/double_pendulum.urdf");
+    let o = kinetree(&[
+        "simulate",
+        urdf.to_str().unwrap(),
+        "--q",
+        "joint1=0.3",
+        "--duration",
+        "1",
+        "--dt",
+        "1e-3",
+        "--ignore-joint-dynamics",
+        "--plot",
+        plot.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let relative: f64 = text
+        .split("relative ")
+        .nth(1)
+        .and_then(|r| r.trim_end_matches([')', '\n']).split(')').next())
+        .and_then(|x| x.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no energy line in {text}"));
+    assert!(relative.abs() < 1e-6, "{text}");
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("joint1") && svg.contains("mechanical energy"));
 }

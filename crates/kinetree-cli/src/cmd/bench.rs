@@ -4,10 +4,12 @@
 //! Each algorithm runs `--calls` times, cycling through 1000 random states, after a warm-up of
 //! a tenth as many calls; this is repeated `--repetitions` times and the median ns/call is
 //! printed. With `--json` the output is
-//! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians"}}`;
-//! the keys stay stable so scripts can compare runs.
+//! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians",
+//! "rnea", "nle", "crba", "aba", "minv"}}`; the keys stay stable so scripts can compare runs.
+//! Velocities, accelerations and torques are drawn uniformly in [-1, 1].
 
 use anyhow::Result;
+use kinetree::dynamics::{DynamicsData, aba, crba, mass_matrix_inverse, nonlinear_effects, rnea};
 use kinetree::kinematics::configuration::random_configuration;
 use kinetree::kinematics::spatial::Motion;
 use kinetree::kinematics::{
@@ -15,6 +17,7 @@ use kinetree::kinematics::{
     forward_kinematics, update_frame_placements,
 };
 use kinetree::model::Model;
+use rand::Rng;
 use rand::SeedableRng;
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -77,6 +80,13 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             random_configuration(&model, &mut rng, &mut q).map(|()| q)
         })
         .collect::<Result<_, _>>()?;
+    let vectors: Vec<Vec<f64>> = (0..1000)
+        .map(|_| {
+            (0..model.nv())
+                .map(|_| rng.random_range(-1.0..1.0))
+                .collect()
+        })
+        .collect();
     let mut data = KinematicsData::new(&model);
     let mut jac = vec![Motion::ZERO; model.nv()];
     let frame = FrameId::Link(deepest_link(&model));
@@ -117,6 +127,41 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         time(calls, reps, |i| {
             let _ = compute_joint_jacobians(&model, &mut data, black_box(q(i)));
             black_box(&data);
+        }),
+    ));
+
+    let mut dd = DynamicsData::new(&model);
+    let x = |i: usize| &vectors[i % vectors.len()];
+    let y = |i: usize| &vectors[(i + 500) % vectors.len()];
+    results.push((
+        "rnea",
+        time(calls, reps, |i| {
+            let _ = black_box(rnea(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|t| t[0]));
+        }),
+    ));
+    results.push((
+        "nle",
+        time(calls, reps, |i| {
+            let _ =
+                black_box(nonlinear_effects(&model, &mut dd, black_box(q(i)), x(i)).map(|t| t[0]));
+        }),
+    ));
+    results.push((
+        "crba",
+        time(calls, reps, |i| {
+            let _ = black_box(crba(&model, &mut dd, black_box(q(i))).map(|m| m[0]));
+        }),
+    ));
+    results.push((
+        "aba",
+        time(calls, reps, |i| {
+            let _ = black_box(aba(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|a| a[0]));
+        }),
+    ));
+    results.push((
+        "minv",
+        time(calls, reps, |i| {
+            let _ = black_box(mass_matrix_inverse(&model, &mut dd, black_box(q(i))).map(|m| m[0]));
         }),
     ));
 

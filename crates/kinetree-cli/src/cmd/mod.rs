@@ -3,7 +3,9 @@
 pub(crate) mod bench;
 pub(crate) mod compute;
 pub(crate) mod convert;
+pub(crate) mod dynamics;
 pub(crate) mod inspect;
+pub(crate) mod simulate;
 pub(crate) mod workspace;
 
 use anyhow::{Context, Result};
@@ -24,4 +26,55 @@ pub(crate) fn load_model(path: &Path, root: impl Into<Option<RootJoint>>) -> Res
 /// The root attachment asked for by a `--floating` flag: `None` leaves it to the file.
 pub(crate) fn root_joint(floating: bool) -> Option<RootJoint> {
     floating.then_some(RootJoint::Floating)
+}
+
+/// Parses `name=value,name=value` into a configuration (`velocity = false`, starting from the
+/// neutral configuration) or a velocity-space vector (`velocity = true`, starting from zero).
+/// Multi-DoF joints take their values separated by `:` (e.g. `root_joint=0:0:1:0:0:0:1`).
+///
+/// # Errors
+/// A malformed entry, an unknown joint, or a wrong number of values (naming the joint).
+pub(crate) fn parse_named(model: &Model, spec: Option<&str>, velocity: bool) -> Result<Vec<f64>> {
+    use kinetree::kinematics::configuration::{neutral_configuration, set_joint_q, set_joint_v};
+    let mut out = if velocity {
+        vec![0.0; model.nv()]
+    } else {
+        neutral_configuration(model)
+    };
+    for entry in spec
+        .unwrap_or_default()
+        .split(',')
+        .map(str::trim)
+        .filter(|e| !e.is_empty())
+    {
+        let (name, values) = entry
+            .split_once('=')
+            .with_context(|| format!("'{entry}' is not name=value"))?;
+        let values: Vec<f64> = values
+            .split(':')
+            .map(|x| {
+                x.trim()
+                    .parse::<f64>()
+                    .with_context(|| format!("'{x}' in '{entry}' is not a number"))
+            })
+            .collect::<Result<_>>()?;
+        if velocity {
+            set_joint_v(model, &mut out, name.trim(), &values)?;
+        } else {
+            set_joint_q(model, &mut out, name.trim(), &values)?;
+        }
+    }
+    Ok(out)
+}
+
+/// Writes `values` keyed by the moving joints' names, one line each, to a string.
+pub(crate) fn by_joint_lines(model: &Model, values: &[f64], unit: &str) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    for j in model.moving_joints() {
+        let r = model.joint_v_range(j);
+        let x: Vec<String> = values[r].iter().map(|x| format!("{x:>14.6}")).collect();
+        let _ = writeln!(s, "  {:<28} {} {unit}", model.joint(j).name, x.join(" "));
+    }
+    s
 }

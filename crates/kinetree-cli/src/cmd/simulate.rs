@@ -1,0 +1,150 @@
+//! `kinetree simulate <model> --duration 2 --dt 1e-3`: integrates the equations of motion from a
+//! given state under constant torques and gravity, prints the final state and the energy
+//! balance, and optionally plots joint positions and energy over time.
+
+use crate::plot::{Series, chart, document};
+use anyhow::{Context, Result, bail};
+use kinetree::dynamics::{DynamicsData, Integrator, JointTerms, mechanical_energy, step};
+use std::path::PathBuf;
+
+/// Arguments of `kinetree simulate`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct Args {
+    /// The model file (.urdf or .json).
+    model: PathBuf,
+    /// Attach the root link by a 6-DoF floating joint named `root_joint`.
+    #[arg(long)]
+    floating: bool,
+    /// Simulated time (s).
+    #[arg(long, default_value_t = 2.0)]
+    duration: f64,
+    /// Time step (s).
+    #[arg(long, default_value_t = 1e-3)]
+    dt: f64,
+    /// Initial joint positions `name=value,…` (neutral otherwise).
+    #[arg(long)]
+    q: Option<String>,
+    /// Initial joint velocities `name=value,…` (zero otherwise).
+    #[arg(long)]
+    v: Option<String>,
+    /// Constant joint torques `name=value,…` (zero otherwise).
+    #[arg(long)]
+    tau: Option<String>,
+    /// `rk4` (default) or `euler` (semi-implicit).
+    #[arg(long, default_value = "rk4")]
+    integrator: String,
+    /// Leave joint damping, friction and armature out.
+    #[arg(long)]
+    ignore_joint_dynamics: bool,
+    /// Write an SVG plot of joint positions and mechanical energy over time.
+    #[arg(long)]
+    plot: Option<PathBuf>,
+}
+
+/// Runs the simulation and reports.
+pub(crate) fn run(args: &Args) -> Result<()> {
+    if !(args.dt.is_finite() && args.dt > 0.0 && args.duration.is_finite() && args.duration >= 0.0)
+    {
+        bail!("--dt must be positive and --duration non-negative");
+    }
+    let integrator = match args.integrator.as_str() {
+        "rk4" => Integrator::RungeKutta4,
+        "euler" => Integrator::SemiImplicitEuler,
+        other => bail!("unknown integrator '{other}' (rk4 or euler)"),
+    };
+    let model = super::load_model(&args.model, super::root_joint(args.floating))?;
+    let mut q = super::parse_named(&model, args.q.as_deref(), false)?;
+    let mut v = super::parse_named(&model, args.v.as_deref(), true)?;
+    let tau = super::parse_named(&model, args.tau.as_deref(), true)?;
+    let terms = if args.ignore_joint_dynamics {
+        JointTerms::Ignored
+    } else {
+        JointTerms::FromModel
+    };
+    let mut data = DynamicsData::with_joint_terms(&model, terms);
+    let steps = (args.duration / args.dt).round() as usize;
+    let e0 = mechanical_energy(&model, &mut data, &q, &v)?;
+    // Positions of the 1-DoF joints (the plot's curves) and energy, sampled about 1000 times.
+    let every = (steps / 1000).max(1);
+    let plotted: Vec<usize> = model
+        .moving_joints()
+        .filter(|&j| model.joint_q_range(j).len() == 1)
+        .take(10)
+        .collect();
+    let mut curves: Vec<Vec<(f64, f64)>> = vec![Vec::new(); plotted.len()];
+    let mut energy = vec![(0.0, e0)];
+    let record = |t: f64, q: &[f64], curves: &mut Vec<Vec<(f64, f64)>>| {
+        for (c, &j) in curves.iter_mut().zip(&plotted) {
+            c.push((t, q[model.joint_q_range(j).start]));
+        }
+    };
+    record(0.0, &q, &mut curves);
+    let start = std::time::Instant::now();
+    for k in 1..=steps {
+        step(&model, &mut data, integrator, &mut q, &mut v, &tau, args.dt)
+            .with_context(|| format!("step {k} (t = {:.6} s)", k as f64 * args.dt))?;
+        if k % every == 0 || k == steps {
+            let t = k as f64 * args.dt;
+            record(t, &q, &mut curves);
+            energy.push((t, mechanical_energy(&model, &mut data, &q, &v)?));
+        }
+    }
+    let elapsed = start.elapsed();
+    let e1 = mechanical_energy(&model, &mut data, &q, &v)?;
+    println!(
+        "{}: {steps} steps of {} s ({:?}) in {:.3} s wall ({:.2} µs/step)",
+        model.name(),
+        args.dt,
+        integrator,
+        elapsed.as_secs_f64(),
+        elapsed.as_secs_f64() * 1e6 / steps.max(1) as f64
+    );
+    println!(
+        "mechanical energy: {e0:.9} J -> {e1:.9} J (change {:.3e} J, relative {:.3e})",
+        e1 - e0,
+        (e1 - e0) / e0.abs().max(1e-300)
+    );
+    println!("final q:");
+    for j in model.moving_joints() {
+        let x: Vec<String> = q[model.joint_q_range(j)]
+            .iter()
+            .map(|x| format!("{x:.6}"))
+            .collect();
+        println!("  {:<28} {}", model.joint(j).name, x.join(" "));
+    }
+    if let Some(path) = &args.plot {
+        let names: Vec<&str> = plotted
+            .iter()
+            .map(|&j| model.joint(j).name.as_str())
+            .collect();
+        let joints: Vec<Series<'_>> = names
+            .iter()
+            .zip(curves)
+            .map(|(n, points)| Series { name: n, points })
+            .collect();
+        let svg = document(900.0, 620.0, |svg| {
+            chart(
+                svg,
+                (0.0, 0.0, 900.0, 320.0),
+                &format!("{}: joint positions", model.name()),
+                "time (s)",
+                "q (rad or m)",
+                &joints,
+            );
+            chart(
+                svg,
+                (0.0, 320.0, 900.0, 300.0),
+                "mechanical energy",
+                "time (s)",
+                "energy (J)",
+                &[Series {
+                    name: "kinetic + potential",
+                    points: energy,
+                }],
+            );
+        });
+        std::fs::write(path, svg).with_context(|| format!("cannot write {}", path.display()))?;
+        println!("plot written to {}", path.display());
+    }
+    Ok(())
+}
