@@ -67,8 +67,6 @@ pub struct DynamicsData {
     pub(crate) dof_body: Vec<usize>,
     /// Parent degree of freedom (Featherstone's λ for the mass matrix sparsity), or `NO_PARENT`.
     pub(crate) dof_parent: Vec<usize>,
-    /// One past the last degree of freedom in the subtree of each degree of freedom.
-    pub(crate) dof_subtree_end: Vec<usize>,
     // Per body.
     pub(crate) parent_from_body: Vec<Se3>,
     pub(crate) world_from_body: Vec<Se3>,
@@ -102,7 +100,6 @@ pub struct DynamicsData {
     pub(crate) factor: Vec<f64>,
     pub(crate) factorized: bool,
     pub(crate) mass_matrix_inverse: Vec<f64>,
-    pub(crate) rhs: Vec<f64>,
     pub(crate) com: DVec3,
     pub(crate) com_velocity: DVec3,
     pub(crate) com_jacobian: Vec<DVec3>,
@@ -134,7 +131,6 @@ impl DynamicsData {
         let bodies = model.bodies();
         let mut dof_body = vec![0; nv];
         let mut dof_parent = vec![NO_PARENT; nv];
-        let mut dof_subtree_end = vec![0; nv];
         let mut dinv_offset = vec![0; nb + 1];
         // The last degree of freedom of each body (or NO_PARENT for the world).
         let mut last_dof = vec![NO_PARENT; nb];
@@ -143,14 +139,10 @@ impl DynamicsData {
             if i == 0 {
                 continue;
             }
-            let end = bodies
-                .get(b.subtree_end.saturating_sub(1))
-                .map_or(nv, |last| last.idx_v + last.nv);
             for k in 0..b.nv {
                 let d = b.idx_v + k;
                 dof_body[d] = i;
                 dof_parent[d] = if k > 0 { d - 1 } else { last_dof[b.parent] };
-                dof_subtree_end[d] = end;
             }
             last_dof[i] = if b.nv > 0 {
                 b.idx_v + b.nv - 1
@@ -174,7 +166,6 @@ impl DynamicsData {
             friction: vec![0.0; nv],
             dof_body,
             dof_parent,
-            dof_subtree_end,
             parent_from_body: vec![Se3::IDENTITY; nb],
             world_from_body: vec![Se3::IDENTITY; nb],
             velocity: vec![Motion::ZERO; nb],
@@ -206,7 +197,6 @@ impl DynamicsData {
             factor: vec![0.0; nv * nv],
             factorized: false,
             mass_matrix_inverse: vec![0.0; nv * nv],
-            rhs: vec![0.0; nv],
             com: DVec3::ZERO,
             com_velocity: DVec3::ZERO,
             com_jacobian: vec![DVec3::ZERO; nv],

@@ -231,7 +231,7 @@ pub fn forward_dynamics_crb<'d>(
     for ((x, t), n) in data.ddq.iter_mut().zip(tau).zip(&data.nle) {
         *x = t - n;
     }
-    crate::factor::solve_in_place(&data.factor, &data.dof_parent, &mut data.ddq);
+    crate::factor::solve_in_place(&data.factor, &mut data.ddq);
     Ok(&data.ddq)
 }
 

@@ -57,38 +57,43 @@ pub fn factorize_mass_matrix(
 }
 
 /// Factorizes `data.mass_matrix` into `data.factor`.
+///
+/// `L` has no fill-in: `L[i][j]` is nonzero only when `j` is an ancestor of `i`, and every other
+/// entry of the lower triangle stays exactly zero (as in `M`). The row updates therefore run over
+/// whole contiguous prefixes `0..=i` (vectorizable) instead of walking the ancestor lists.
 pub(crate) fn factorize(model: &Model, data: &mut DynamicsData) -> Result<(), DynamicsError> {
     let nv = data.nv;
     data.factorized = false;
-    let h = &mut data.factor;
-    h.copy_from_slice(&data.mass_matrix);
     let parent = &data.dof_parent;
-    let scale = (0..nv)
-        .map(|k| data.mass_matrix[k * nv + k])
-        .fold(0.0, f64::max);
+    let h = &mut data.factor;
+    let mut scale: f64 = 0.0;
+    for k in 0..nv {
+        let row = k * nv;
+        h[row..=row + k].copy_from_slice(&data.mass_matrix[row..=row + k]);
+        scale = scale.max(h[row + k]);
+    }
     let tolerance = scale * PIVOT_TOLERANCE;
     let mut singular = false;
     for k in (0..nv).rev() {
-        let d = h[k * nv + k];
+        let (above, below) = h.split_at_mut(k * nv);
+        let row_k = &mut below[..=k];
+        let d = row_k[k];
         if d.is_nan() || d <= tolerance {
-            singular = true;
             // Drop the row so that the remaining pivots are still meaningful.
-            let mut i = parent[k];
-            while i != NO_PARENT {
-                h[k * nv + i] = 0.0;
-                i = parent[i];
-            }
+            singular = true;
+            row_k[..k].fill(0.0);
             continue;
         }
+        // For each ancestor i of k, nearest first: a = H[k][i] / d,
+        // H[i][0..=i] -= a·H[k][0..=i], then H[k][i] = a.
         let mut i = parent[k];
         while i != NO_PARENT {
-            let a = h[k * nv + i] / d;
-            let mut j = i;
-            while j != NO_PARENT {
-                h[i * nv + j] -= a * h[k * nv + j];
-                j = parent[j];
+            let a = row_k[i] / d;
+            let row_i = &mut above[i * nv..=i * nv + i];
+            for (x, y) in row_i.iter_mut().zip(&row_k[..=i]) {
+                *x -= a * y;
             }
-            h[k * nv + i] = a;
+            row_k[i] = a;
             i = parent[i];
         }
     }
@@ -139,22 +144,24 @@ pub fn solve_mass_matrix(
     }
     check_vector("rhs", b, b.len())?;
     for x in b.chunks_exact_mut(nv) {
-        solve_in_place(&data.factor, &data.dof_parent, x);
+        solve_in_place(&data.factor, x);
     }
     Ok(())
 }
 
-/// `x ← M⁻¹·x` with `M = Lᵀ·D·L` stored in `h` (`L` strictly below the diagonal, `D` on it).
+/// `x ← M⁻¹·x` with `M = Lᵀ·D·L` stored in `h` (`L` strictly below the diagonal, `D` on it,
+/// zeros elsewhere in the lower triangle).
 #[inline]
-pub(crate) fn solve_in_place(h: &[f64], parent: &[usize], x: &mut [f64]) {
+pub(crate) fn solve_in_place(h: &[f64], x: &mut [f64]) {
     let nv = x.len();
     // Lᵀ·y = b: from the leaves up.
-    for i in (0..nv).rev() {
+    for i in (1..nv).rev() {
         let xi = x[i];
-        let mut j = parent[i];
-        while j != NO_PARENT {
-            x[j] -= h[i * nv + j] * xi;
-            j = parent[j];
+        if xi != 0.0 {
+            let (head, _) = x.split_at_mut(i);
+            for (xj, l) in head.iter_mut().zip(&h[i * nv..i * nv + i]) {
+                *xj -= l * xi;
+            }
         }
     }
     // D·z = y.
@@ -162,14 +169,13 @@ pub(crate) fn solve_in_place(h: &[f64], parent: &[usize], x: &mut [f64]) {
         x[i] /= h[i * nv + i];
     }
     // L·x = z: from the root down.
-    for i in 0..nv {
-        let mut s = x[i];
-        let mut j = parent[i];
-        while j != NO_PARENT {
-            s -= h[i * nv + j] * x[j];
-            j = parent[j];
-        }
-        x[i] = s;
+    for i in 1..nv {
+        let sum: f64 = h[i * nv..i * nv + i]
+            .iter()
+            .zip(&x[..i])
+            .map(|(l, y)| l * y)
+            .sum();
+        x[i] -= sum;
     }
 }
 
@@ -196,40 +202,37 @@ pub fn mass_matrix_inverse<'d>(
 }
 
 /// Fills `data.mass_matrix_inverse` from the factorization.
+///
+/// From `L·Y = D⁻¹·L⁻ᵀ` (upper triangular) with `Y = M⁻¹` symmetric: for `j < i`,
+/// `Y[i][j] = -Σ_{l ∈ anc(i)} L[i][l]·Y[l][j]`, and `Y[i][i] = 1/D[i] - Σ_{l ∈ anc(i)} L[i][l]·Y[i][l]`.
+/// Rows are computed in order and mirrored at once, so every `Y[l][j]` needed is known.
 fn invert(data: &mut DynamicsData) {
     let nv = data.nv;
     let h = &data.factor;
     let parent = &data.dof_parent;
-    let end = &data.dof_subtree_end;
-    let minv = &mut data.mass_matrix_inverse;
-    minv.fill(0.0);
-    // Column k of P lives in rhs[k..end[k]]; P[i][k] = -Σ_{l ∈ anc(i), l ≥ k} L[i][l]·P[l][k].
-    let p = &mut data.rhs;
-    for k in 0..nv {
-        let e = end[k];
-        p[k] = 1.0;
-        for i in k + 1..e {
-            let mut s = 0.0;
-            let mut l = parent[i];
-            while l != NO_PARENT && l >= k {
-                s -= h[i * nv + l] * p[l];
-                l = parent[l];
-            }
-            p[i] = s;
-        }
-        let dinv = 1.0 / h[k * nv + k];
-        // Lower triangle of the rank-one update on the block [k, e) x [k, e).
-        for i in k..e {
-            let pi = p[i] * dinv;
-            let row = &mut minv[i * nv + k..i * nv + i + 1];
-            for (r, pj) in row.iter_mut().zip(&p[k..=i]) {
-                *r += pi * pj;
-            }
-        }
-    }
+    let y = &mut data.mass_matrix_inverse;
     for i in 0..nv {
-        for j in i + 1..nv {
-            minv[i * nv + j] = minv[j * nv + i];
+        let (above, below) = y.split_at_mut(i * nv);
+        let row_i = &mut below[..=i];
+        row_i.fill(0.0);
+        let l_row = &h[i * nv..=i * nv + i];
+        let mut l = parent[i];
+        while l != NO_PARENT {
+            let a = l_row[l];
+            for (x, yl) in row_i[..i].iter_mut().zip(&above[l * nv..l * nv + i]) {
+                *x -= a * yl;
+            }
+            l = parent[l];
+        }
+        let mut diag = 1.0 / l_row[i];
+        let mut l = parent[i];
+        while l != NO_PARENT {
+            diag -= l_row[l] * row_i[l];
+            l = parent[l];
+        }
+        row_i[i] = diag;
+        for j in 0..i {
+            above[j * nv + i] = row_i[j];
         }
     }
 }
