@@ -240,3 +240,42 @@ fn joint_terms_come_from_the_urdf() {
         assert_eq!(t3, &t2[..], "{robot}");
     }
 }
+
+/// A model without moving joints: every algorithm returns empty results, nothing panics.
+#[test]
+fn models_without_moving_joints_work() {
+    let mut b = ModelBuilder::new("statue");
+    b.add_link(Link::new("base").with_mass(1.0, DVec3::ZERO, Symmetric3::IDENTITY));
+    b.add_part(
+        Link::new("head").with_mass(1.0, DVec3::ZERO, Symmetric3::IDENTITY),
+        JointSpec::new("neck", JointKind::Fixed, "base", "head"),
+    );
+    let model = b.build().unwrap();
+    assert_eq!(model.nv(), 0);
+    let mut data = DynamicsData::new(&model);
+    assert!(rnea(&model, &mut data, &[], &[], &[]).unwrap().is_empty());
+    assert!(crba(&model, &mut data, &[]).unwrap().is_empty());
+    assert!(aba(&model, &mut data, &[], &[], &[]).unwrap().is_empty());
+    assert!(
+        mass_matrix_inverse(&model, &mut data, &[])
+            .unwrap()
+            .is_empty()
+    );
+    solve_mass_matrix(&model, &mut data, &mut []).unwrap();
+    // Everything is welded to the world: no moving mass.
+    assert!(matches!(
+        center_of_mass(&model, &mut data, &[]),
+        Err(DynamicsError::ZeroMass)
+    ));
+    let (mut q, mut v) = (vec![], vec![]);
+    step(
+        &model,
+        &mut data,
+        Integrator::RungeKutta4,
+        &mut q,
+        &mut v,
+        &[],
+        1e-3,
+    )
+    .unwrap();
+}
