@@ -74,6 +74,7 @@
 pub mod build;
 mod data;
 mod error;
+mod gjk;
 pub mod mesh;
 mod model;
 mod narrow;

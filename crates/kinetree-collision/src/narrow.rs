@@ -242,6 +242,13 @@ where
     G1: ?Sized + SupportMap,
     G2: ?Sized + SupportMap,
 {
+    // Distance queries: the lean GJK first (separated shapes); parry's GJK/EPA otherwise and
+    // for collision queries, where parry's GJK stops at the first separating direction.
+    if max_dist > 0.0 {
+        if let Some(local) = crate::gjk::separated_distance(pos12, g1, g2, dir) {
+            return (local.3 <= max_dist).then_some(local);
+        }
+    }
     scratch
         .simplex
         .reset(CsoPoint::from_shapes(pos12, g1, g2, dir));
