@@ -73,10 +73,18 @@ where
                 None
             };
         }
-        let picked = region.vertices.map(|k| simplex[k]);
+        // Compact in place: with the kept indices sorted, each source is at or after its slot.
+        let mut kept = [
+            (region.vertices[0], region.weights[0]),
+            (region.vertices[1], region.weights[1]),
+            (region.vertices[2], region.weights[2]),
+        ];
         n = region.count;
-        simplex[..n].copy_from_slice(&picked[..n]);
-        lambda[..n].copy_from_slice(&region.weights[..n]);
+        kept[..n].sort_unstable_by_key(|k| k.0);
+        for (t, &(k, l)) in kept[..n].iter().enumerate() {
+            simplex[t] = simplex[k];
+            lambda[t] = l;
+        }
         v = region.point;
     }
     None

@@ -11,7 +11,10 @@
 //! inside parry: queries involving a triangle mesh ([`MeshMode::TriMesh`](crate::MeshMode))
 //! go through parry's composite-shape traversal, which keeps a stack in a `Vec`; and the EPA
 //! buffers of [`CollisionData`] grow on the first penetrating convex pairs until they are large
-//! enough (they are reused afterwards).
+//! enough (they are reused afterwards; parry's own `contact` would allocate a new EPA per call).
+//!
+//! **Cost:** on curved shapes parry's EPA runs to its 100-iteration cap, so the rare penetrating
+//! cylinder pairs take about a third of [`compute_distances`] on random panda configurations.
 
 use crate::data::{CollisionData, Proximity};
 use crate::error::CollisionError;
