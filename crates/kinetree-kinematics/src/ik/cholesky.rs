@@ -1,9 +1,9 @@
 //! A small dense Cholesky (LDLᵀ) factorisation for the solver's normal equations.
 //!
-//! The systems are `(JᵀJ + λI)` with `n` = the number of moving coordinates (6 or 7 for an arm, up
-//! to a few dozen for a humanoid). At these sizes a plain row-oriented loop beats faer's blocked
-//! `cholesky_in_place` + `solve_in_place` (measured 2x faster for n = 6, 7; see the commit
-//! message), and it keeps faer out of this crate.
+//! The systems are `JᵀJ + λI` or `JJᵀ + λI`, whichever is smaller: 6 x 6 for an arm, rarely more
+//! than 20 x 20 (three targets on a humanoid). At these sizes a plain row-oriented loop beats
+//! faer's blocked `cholesky_in_place` + `solve_in_place` (measured in the commit messages), and it
+//! keeps faer out of this crate.
 
 /// The dot product of two equally long slices (four accumulators, so it vectorises).
 #[inline]

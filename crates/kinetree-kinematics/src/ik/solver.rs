@@ -4,13 +4,16 @@
 //! One step, for the stacked residual `r(q)` of every target (see [`IkTarget`]) and its Jacobian
 //! `J` (exact: the frame Jacobian mapped through the inverse left Jacobian of SO(3)):
 //!
-//! 1. `(JᵀJ + λI) δ = -Jᵀr - JᵀJ z`, `dq = z + δ`, where `z` is the posture step (zero without a
+//! 1. `(JᵀJ + λI) δ = Jᵀ(-r - J z)`, `dq = z + δ`, where `z` is the posture step (zero without a
 //!    posture). With `λ → 0` this is the Gauss–Newton step plus `z` projected on the null space of
 //!    `J`. `λ = μ (½|r|² + λ₀)`: large far from the target, vanishing at it, so the last steps
-//!    converge quadratically.
-//! 2. Box constraints: a coordinate at a limit whose step points outwards is frozen and the system
-//!    solved again without it (an active set); the remaining step is projected into the limits.
-//!    Every iterate therefore satisfies the limits.
+//!    converge quadratically. When `J` has fewer rows `m` than free columns `n` (a redundant arm,
+//!    several targets on a humanoid) the same `δ` is computed as `Jᵀ(JJᵀ + λI)⁻¹(-r - J z)`, an
+//!    `m x m` system instead of `n x n`.
+//! 2. Box constraints: a coordinate at a limit that steepest descent pushes outwards is frozen,
+//!    and so is any whose step still points outwards (the system is solved again without it: an
+//!    active set); the remaining step is projected into the limits. Every iterate therefore
+//!    satisfies the limits.
 //! 3. `q ⊕ dq` on each joint's manifold ([`integrate_joint`]), so quaternions stay unit.
 //! 4. The step is kept if it lowers `½|r|²`; `μ` follows the ratio of the actual to the predicted
 //!    decrease (Nielsen's rule). A try ends on convergence, after
@@ -140,10 +143,14 @@ struct Workspace {
     jac: Vec<f64>,
     r: Vec<f64>,
     r_trial: Vec<f64>,
-    /// `Jᵀr` and `JᵀJ` (full, row-major n x n).
-    g: Vec<f64>,
-    h: Vec<f64>,
+    /// The normal-equation matrix (`J_F J_Fᵀ + λI` or `J_FᵀJ_F + λI`, F the free columns) and
+    /// its factor.
     chol: Vec<f64>,
+    /// `J` with the frozen columns removed (`m x f`, row-major).
+    jf: Vec<f64>,
+    /// `-r - J z` (length m) and the solution of the m x m system.
+    w: Vec<f64>,
+    y: Vec<f64>,
     /// `1 / D` of the `L D Lᵀ` factorisation.
     inv_diag: Vec<f64>,
     rhs: Vec<f64>,
@@ -177,10 +184,11 @@ impl Workspace {
             jac: vec![0.0; rows * nv],
             r: vec![0.0; rows],
             r_trial: vec![0.0; rows],
-            g: vec![0.0; nv],
-            h: vec![0.0; nv * nv],
-            chol: vec![0.0; nv * nv],
-            inv_diag: vec![0.0; nv],
+            chol: vec![0.0; nv.max(rows).pow(2)],
+            inv_diag: vec![0.0; nv.max(rows)],
+            jf: vec![0.0; rows * nv],
+            w: vec![0.0; rows],
+            y: vec![0.0; rows],
             rhs: vec![0.0; nv],
             step: vec![0.0; nv],
             z: vec![0.0; nv],
@@ -246,10 +254,9 @@ impl Workspace {
     }
 
     /// The weighted residual Jacobian at the current configuration (whose evaluation was the last
-    /// one), then `g = Jᵀr` and `h = JᵀJ`.
+    /// one).
     fn linearize(&mut self, model: &Model, data: &KinematicsData) {
         let bodies = model.bodies();
-        let m = self.m;
         let n = self.dofs.len();
         // Per target, the map from a world angular velocity to d(phi)/dt.
         for t in &mut self.targets[..self.ntargets] {
@@ -291,26 +298,6 @@ impl Workspace {
                     let comp = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
                     for (k, &a) in (t.offset..t.offset + t.nrows).zip(&t.rows[..t.nrows]) {
                         self.jac[k * n + c] += t.weights[a] * comp[a];
-                    }
-                }
-            }
-        }
-        // g = Jᵀr and h = JᵀJ as sums of one outer product per row: independent accumulators
-        // that vectorise, and zero entries (other targets' rows) skipped.
-        let g = &mut self.g[..n];
-        let h = &mut self.h[..n * n];
-        g.fill(0.0);
-        h.fill(0.0);
-        for k in 0..m {
-            let row = &self.jac[k * n..(k + 1) * n];
-            let rk = self.r[k];
-            for (gi, a) in g.iter_mut().zip(row) {
-                *gi += a * rk;
-            }
-            for (i, &a) in row.iter().enumerate() {
-                if a != 0.0 {
-                    for (hij, b) in h[i * n..(i + 1) * n].iter_mut().zip(row) {
-                        *hij += a * b;
                     }
                 }
             }
@@ -952,8 +939,21 @@ fn step(
         }
     }
     // Active set: freeze coordinates at a limit whose step points outwards.
-    ws.fixed[..n].fill(false);
-    let h = &ws.h[..n * n];
+    let m = ws.m;
+    let jac = &ws.jac[..m * n];
+    // Start from the coordinates at a limit that steepest descent (-Jᵀr) pushes outwards; the
+    // loop below frees none of them and rarely has to freeze more.
+    for c in 0..n {
+        let b = &bounds[ws.dofs[c]];
+        let x = ws.q[b.q];
+        ws.fixed[c] = b.is_bounded() && (x <= b.lower || x >= b.upper) && {
+            let descent: f64 = -(0..m).map(|k| jac[k * n + c] * ws.r[k]).sum::<f64>();
+            (x <= b.lower && descent < 0.0) || (x >= b.upper && descent > 0.0)
+        };
+        if ws.fixed[c] {
+            ws.z[c] = 0.0;
+        }
+    }
     for _round in 0..=n {
         ws.free.clear();
         for c in 0..n {
@@ -962,28 +962,76 @@ fn step(
             }
         }
         let f = ws.free.len();
-        // rhs = -(g + H z) on the free coordinates.
-        for (a, &i) in ws.free.iter().enumerate() {
-            ws.rhs[a] = if posture.is_some() {
-                -(ws.g[i] + dot(&h[i * n..(i + 1) * n], &ws.z[..n]))
+        // w = -r - J z, and J_F: the free columns of J, packed.
+        for k in 0..m {
+            let row = &jac[k * n..(k + 1) * n];
+            ws.w[k] = -ws.r[k]
+                - if posture.is_some() {
+                    dot(row, &ws.z[..n])
+                } else {
+                    0.0
+                };
+            let packed = &mut ws.jf[k * f..(k + 1) * f];
+            if f == n {
+                packed.copy_from_slice(row);
             } else {
-                -ws.g[i]
-            };
-        }
-        let chol = &mut ws.chol[..f * f];
-        for (a, &i) in ws.free.iter().enumerate() {
-            for (b, &j) in ws.free[..=a].iter().enumerate() {
-                chol[a * f + b] = h[i * n + j];
+                for (o, &c) in packed.iter_mut().zip(&ws.free) {
+                    *o = row[c];
+                }
             }
-            chol[a * f + a] += lambda;
         }
-        if !cholesky::factor(chol, f, &mut ws.inv_diag[..f]) {
-            return None;
-        }
-        cholesky::solve(chol, f, &ws.inv_diag[..f], &mut ws.rhs[..f]);
+        let jf = &ws.jf[..m * f];
+        // δ_F = (J_FᵀJ_F + λI)⁻¹ J_Fᵀ w = J_Fᵀ (J_F J_Fᵀ + λI)⁻¹ w: factor whichever is smaller.
         ws.step[..n].copy_from_slice(&ws.z[..n]);
-        for (a, &i) in ws.free.iter().enumerate() {
-            ws.step[i] += ws.rhs[a];
+        if m < f {
+            let a = &mut ws.chol[..m * m];
+            for k in 0..m {
+                let rk = &jf[k * f..(k + 1) * f];
+                for l in 0..=k {
+                    a[k * m + l] = dot(rk, &jf[l * f..(l + 1) * f]);
+                }
+                a[k * m + k] += lambda;
+            }
+            if !cholesky::factor(a, m, &mut ws.inv_diag[..m]) {
+                return None;
+            }
+            ws.y[..m].copy_from_slice(&ws.w[..m]);
+            cholesky::solve(a, m, &ws.inv_diag[..m], &mut ws.y[..m]);
+            for k in 0..m {
+                let yk = ws.y[k];
+                for (&c, jkc) in ws.free.iter().zip(&jf[k * f..(k + 1) * f]) {
+                    ws.step[c] += jkc * yk;
+                }
+            }
+        } else {
+            let a = &mut ws.chol[..f * f];
+            a.fill(0.0);
+            ws.rhs[..f].fill(0.0);
+            // Sums of one outer product per row: independent accumulators that vectorise.
+            for k in 0..m {
+                let row = &jf[k * f..(k + 1) * f];
+                let wk = ws.w[k];
+                for (ra, x) in ws.rhs[..f].iter_mut().zip(row) {
+                    *ra += x * wk;
+                }
+                for (i, &x) in row.iter().enumerate() {
+                    if x != 0.0 {
+                        for (aij, y) in a[i * f..i * f + i + 1].iter_mut().zip(row) {
+                            *aij += x * y;
+                        }
+                    }
+                }
+            }
+            for i in 0..f {
+                a[i * f + i] += lambda;
+            }
+            if !cholesky::factor(a, f, &mut ws.inv_diag[..f]) {
+                return None;
+            }
+            cholesky::solve(a, f, &ws.inv_diag[..f], &mut ws.rhs[..f]);
+            for (&c, x) in ws.free.iter().zip(&ws.rhs[..f]) {
+                ws.step[c] += x;
+            }
         }
         let mut again = false;
         for &i in &ws.free {
@@ -999,11 +1047,6 @@ fn step(
         }
         if !again {
             break;
-        }
-        for c in 0..n {
-            if ws.fixed[c] {
-                ws.step[c] = 0.0;
-            }
         }
     }
     for c in 0..n {
@@ -1045,12 +1088,14 @@ fn step(
             ws.step[c] = x - ws.q[b.q];
         }
     }
+    // Predicted decrease of ½|r|²: -(rᵀJd + ½|Jd|²).
     let d = &ws.step[..n];
-    let mut quad = 0.0;
-    for i in 0..n {
-        quad += d[i] * dot(&h[i * n..(i + 1) * n], d);
+    let mut predicted = 0.0;
+    for k in 0..m {
+        let jd = dot(&jac[k * n..(k + 1) * n], d);
+        predicted -= ws.r[k] * jd + 0.5 * jd * jd;
     }
-    Some(-(dot(&ws.g[..n], d) + 0.5 * quad))
+    Some(predicted)
 }
 
 /// Draws a random start for the moving joints: uniform within the limits (a 2π window for
