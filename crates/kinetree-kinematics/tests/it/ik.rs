@@ -9,7 +9,7 @@ use kinetree_kinematics::configuration::{
     self, is_within_limits, neutral_configuration, random_configuration, set_joint_q,
 };
 use kinetree_kinematics::ik::{
-    IkParams, IkSolver, IkStatus, IkTarget, PlanarTwoLink, TwoLinkSeeder,
+    IkParams, IkReport, IkSolver, IkStatus, IkTarget, PlanarTwoLink, TwoLinkSeeder,
 };
 use kinetree_kinematics::model::{
     JointKind, JointLimits, JointSpec, Link, Model, ModelBuilder, RootJoint, samples,
@@ -648,4 +648,63 @@ fn a_solve_allocates_nothing() {
         assert_eq!(count, 0, "{robot}: a solve allocated");
         assert!(restarts > 0, "{robot}: no restart exercised");
     }
+}
+
+#[test]
+fn coupled_mimic_followers_move_with_their_leader() {
+    use kinetree_kinematics::model::{LoadOptions, MimicMode};
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/data/robots/panda.urdf"
+    );
+    let options = LoadOptions {
+        mimic: MimicMode::Coupled,
+        ..LoadOptions::from(RootJoint::Fixed)
+    };
+    let model = Model::from_urdf_file_with(path, &options).unwrap();
+    // panda_finger_joint2 follows panda_finger_joint1: the right finger is moved by a coordinate
+    // that is not on its own path.
+    let right = FrameId::find(&model, "panda_rightfinger").unwrap();
+    let mut q_goal = neutral_configuration(&model);
+    q_goal[..7].copy_from_slice(&[0.2, -0.4, 0.1, -2.0, 0.3, 1.7, 0.6]);
+    set_joint_q(&model, &mut q_goal, "panda_finger_joint1", &[0.03]).unwrap();
+    let goal = pose_at(&model, right, &q_goal);
+    // Only the leader may move: the solver must find it through the follower's column.
+    let mut solver = IkSolver::new(&model, params());
+    solver
+        .set_moving_joints(&model, &["panda_finger_joint1"])
+        .unwrap();
+    let mut q0 = q_goal.clone();
+    set_joint_q(&model, &mut q0, "panda_finger_joint1", &[0.0]).unwrap();
+    let mut data = KinematicsData::new(&model);
+    let report = solver
+        .solve(
+            &model,
+            &mut data,
+            &IkTarget::position(right, goal.translation),
+            &q0,
+        )
+        .unwrap();
+    assert!(report.is_converged(), "{:?}", report.status);
+    let finger = model.joint_q_range(model.joint_index("panda_finger_joint1").unwrap());
+    assert!((report.q[finger.start] - 0.03).abs() < 1e-6);
+    // Every joint free: the full pose of the right finger from neutral.
+    solver.move_all_joints();
+    let report = solver
+        .solve(
+            &model,
+            &mut data,
+            &IkTarget::new(right, goal),
+            &neutral_configuration(&model),
+        )
+        .unwrap();
+    assert!(report.is_converged());
+    assert!(is_within_limits(&model, report.q, 0.0).unwrap());
+}
+
+#[test]
+fn the_solver_can_move_to_another_thread() {
+    fn assert_send<T: Send>() {}
+    assert_send::<IkSolver>();
+    assert_send::<IkReport<'static>>();
 }
