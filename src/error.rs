@@ -28,6 +28,10 @@ pub enum Error {
     #[cfg(feature = "kinematics")]
     #[error(transparent)]
     Kinematics(#[from] crate::kinematics::KinematicsError),
+    /// Reachable-workspace sampling rejected its input.
+    #[cfg(feature = "kinematics")]
+    #[error(transparent)]
+    Reachable(#[from] crate::kinematics::reachable::ReachableError),
     /// A batch request (`kinetree compute` input) is malformed; the message names the sample.
     #[cfg(feature = "kinematics")]
     #[error("{0}")]
