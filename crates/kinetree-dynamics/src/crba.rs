@@ -2,7 +2,9 @@
 
 use crate::data::DynamicsData;
 use crate::error::DynamicsError;
-use crate::joint_ops::{Factored, Kind, act_force, axis_momentum, project_1dof};
+use crate::joint_ops::{
+    Kind, Rot, act_force, act_inertia, axis_momentum, placed_transform_factored, project_1dof,
+};
 use crate::rnea::check_inputs;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Force;
@@ -58,23 +60,19 @@ pub fn crba<'d>(
 /// The CRBA sweeps (inputs already checked).
 ///
 /// Body-local composite inertias (Pinocchio's `Convention::LOCAL`); each body's force columns
-/// `Icᵢ·Sᵢ` are carried up to every ancestor with the factored transforms (joint rotation,
-/// placement rotation, translation), which cost a few multiplications for axis-aligned joints
-/// and placements.
+/// `Icᵢ·Sᵢ` are carried up to every ancestor, and each composite inertia moves to its parent
+/// with the joint and placement rotations in their cheap forms (a few multiplications for
+/// axis-aligned joints and placements).
 pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
     let bodies = model.bodies();
     let joint_models = data.kinematics.joint_models();
     let nv = data.nv;
     for i in 1..bodies.len() {
         let b = &bodies[i];
-        let (x, f) = Factored::with_se3(
-            &joint_models[i],
-            &b.placement,
-            data.placement_rot[i],
-            &q[b.idx_q..b.idx_q + b.nq],
-        );
+        let (x, jr) =
+            placed_transform_factored(&joint_models[i], &b.placement, &q[b.idx_q..b.idx_q + b.nq]);
         data.parent_from_body[i] = x;
-        data.factored[i] = f;
+        data.joint_rot[i] = jr;
         data.composite[i] = data.body_inertia[i];
     }
     let m = &mut data.mass_matrix;
@@ -160,7 +158,22 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
             }
         }
         if b.parent != 0 {
-            let moved = data.factored[i].act_inertia(&ic);
+            let x = &data.parent_from_body[i];
+            let moved = if kinds[i] == Kind::Other {
+                act_inertia(
+                    &ic,
+                    data.joint_rot[i],
+                    &Rot::General(x.rotation),
+                    x.translation,
+                )
+            } else {
+                act_inertia(
+                    &ic,
+                    data.joint_rot[i],
+                    &data.placement_rot[i],
+                    x.translation,
+                )
+            };
             data.composite[b.parent].add_assign(&moved);
         }
     }

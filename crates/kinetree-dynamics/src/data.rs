@@ -2,7 +2,7 @@
 
 use crate::aba::ArticulatedInertia;
 use crate::error::DynamicsError;
-use crate::joint_ops::{Factored, Kind, OriginInertia, Rot};
+use crate::joint_ops::{JointRot, Kind, OriginInertia, Rot};
 use kinetree_kinematics::KinematicsData;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::DVec3;
@@ -80,8 +80,8 @@ pub struct DynamicsData {
     pub(crate) placement_rot: Vec<Rot>,
     /// The dispatch kind of each body's joint (constant, from the model).
     pub(crate) kinds: Vec<Kind>,
-    /// `parent_from_body` of the last sweep, factored.
-    pub(crate) factored: Vec<Factored>,
+    /// The joint rotation of each body in the last sweep, when about a coordinate axis.
+    pub(crate) joint_rot: Vec<JointRot>,
     pub(crate) articulated: Vec<ArticulatedInertia>,
     pub(crate) bias: Vec<Motion>,
     /// Offset of each body's block in `dinv` (sum of the squares of the preceding `nv`s).
@@ -180,7 +180,8 @@ impl DynamicsData {
                 .iter()
                 .map(|b| Rot::classify(&b.placement.rotation))
                 .collect(),
-            factored: vec![Factored::IDENTITY; nb],
+            joint_rot: vec![JointRot::NONE; nb],
+
             kinds,
             articulated: vec![ArticulatedInertia::ZERO; nb],
             bias: vec![Motion::ZERO; nb],

@@ -457,120 +457,93 @@ impl Rot {
     }
 }
 
-/// `parent_from_body = T(t)·R_placement·R_joint`, factored so that axis-aligned joints and
-/// placements cost a few multiplications: apply `joint`, then `placement`, then translate.
+/// The joint's own rotation when it is about a coordinate axis (axis-aligned revolute joints):
+/// `k` is 0, 1, 2 for x, y, z, or 3 for no rotation.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Factored {
-    pub(crate) joint: Rot,
-    pub(crate) placement: Rot,
-    pub(crate) t: DVec3,
+pub(crate) struct JointRot {
+    k: usize,
+    s: f64,
+    c: f64,
 }
 
-impl Factored {
-    /// Builds `parent_from_body` as an [`Se3`] (for the vector operations, branch-free) along
-    /// with the factored form (for the inertia rotations).
-    #[inline(always)]
-    pub(crate) fn with_se3(
-        jm: &JointModel,
-        placement: &Se3,
-        placement_rot: Rot,
-        q: &[f64],
-    ) -> (Se3, Self) {
-        match Kind::of(jm) {
-            Kind::RevoluteAxis(k) => {
-                let (s, c) = sin_cos(q[0]);
-                let r = &placement.rotation;
-                let (ci, cj) = match k {
-                    0 => (r.y_axis, r.z_axis),
-                    1 => (r.z_axis, r.x_axis),
-                    _ => (r.x_axis, r.y_axis),
-                };
-                // Columns i and j of R·R_k(θ): e_i ↦ c·e_i + s·e_j, e_j ↦ -s·e_i + c·e_j.
-                let (ni, nj) = (ci * c + cj * s, cj * c - ci * s);
-                let rotation = match k {
-                    0 => DMat3::from_cols(r.x_axis, ni, nj),
-                    1 => DMat3::from_cols(nj, r.y_axis, ni),
-                    _ => DMat3::from_cols(ni, nj, r.z_axis),
-                };
-                (
-                    Se3::new(rotation, placement.translation),
-                    Self {
-                        joint: Rot::Axis { k, s, c },
-                        placement: placement_rot,
-                        t: placement.translation,
-                    },
-                )
-            }
-            _ => {
-                let f = Self::new(jm, placement, placement_rot, q);
-                let x = match Kind::of(jm) {
-                    Kind::PrismaticAxis(_) => Se3::new(placement.rotation, f.t),
-                    _ => match f.placement {
-                        Rot::General(r) => Se3::new(r, f.t),
-                        _ => f.to_se3(),
-                    },
-                };
-                (x, f)
-            }
-        }
-    }
-
-    pub(crate) const IDENTITY: Self = Self {
-        joint: Rot::Identity,
-        placement: Rot::Identity,
-        t: DVec3::ZERO,
+impl JointRot {
+    pub(crate) const NONE: Self = Self {
+        k: 3,
+        s: 0.0,
+        c: 1.0,
     };
 
-    /// The factored `parent_from_body` of a body with joint `jm`, constant placement `placement`
-    /// (whose rotation's form is `placement_rot`) at joint configuration `q`.
     #[inline(always)]
-    pub(crate) fn new(jm: &JointModel, placement: &Se3, placement_rot: Rot, q: &[f64]) -> Self {
-        match Kind::of(jm) {
-            Kind::RevoluteAxis(k) => {
-                let (s, c) = sin_cos(q[0]);
-                Self {
-                    joint: Rot::Axis { k, s, c },
-                    placement: placement_rot,
-                    t: placement.translation,
-                }
+    fn rot(self) -> Rot {
+        if self.k < 3 {
+            Rot::Axis {
+                k: self.k,
+                s: self.s,
+                c: self.c,
             }
-            Kind::PrismaticAxis(k) => Self {
-                joint: Rot::Identity,
-                placement: placement_rot,
-                t: placement.translation + placement.rotation.col(k) * q[0],
-            },
-            Kind::Other => {
-                let x = jm.placed_transform(placement, q);
-                Self {
-                    joint: Rot::Identity,
-                    placement: Rot::General(x.rotation),
-                    t: x.translation,
-                }
-            }
+        } else {
+            Rot::Identity
         }
     }
+}
 
-    /// The transform as an [`Se3`].
-    pub(crate) fn to_se3(self) -> Se3 {
-        let r = |rot: Rot| match rot {
-            Rot::Identity => DMat3::IDENTITY,
-            Rot::Axis { .. } => DMat3::from_cols(
-                rot.apply(DVec3::X),
-                rot.apply(DVec3::Y),
-                rot.apply(DVec3::Z),
+/// `parent_from_body` of a body with joint `jm` and constant placement `placement` at joint
+/// configuration `q` (as [`JointModel::placed_transform`], with the fast [`sin_cos`]), and the
+/// joint's own rotation when it is about a coordinate axis. With the placement's rotation form
+/// (see [`Rot::classify`]) that factors the transform as `T(t)·R_placement·R_joint` for
+/// [`act_inertia`]; joints of other kinds report [`JointRot::NONE`] and their whole rotation
+/// must be used as the placement rotation.
+#[inline(always)]
+pub(crate) fn placed_transform_factored(
+    jm: &JointModel,
+    placement: &Se3,
+    q: &[f64],
+) -> (Se3, JointRot) {
+    match Kind::of(jm) {
+        Kind::RevoluteAxis(k) => {
+            let (s, c) = sin_cos(q[0]);
+            let r = &placement.rotation;
+            let (ci, cj) = match k {
+                0 => (r.y_axis, r.z_axis),
+                1 => (r.z_axis, r.x_axis),
+                _ => (r.x_axis, r.y_axis),
+            };
+            // Columns i and j of R·R_k(θ): e_i ↦ c·e_i + s·e_j, e_j ↦ -s·e_i + c·e_j.
+            let (ni, nj) = (ci * c + cj * s, cj * c - ci * s);
+            let rotation = match k {
+                0 => DMat3::from_cols(r.x_axis, ni, nj),
+                1 => DMat3::from_cols(nj, r.y_axis, ni),
+                _ => DMat3::from_cols(ni, nj, r.z_axis),
+            };
+            (
+                Se3::new(rotation, placement.translation),
+                JointRot { k, s, c },
+            )
+        }
+        Kind::PrismaticAxis(k) => (
+            Se3::new(
+                placement.rotation,
+                placement.translation + placement.rotation.col(k) * q[0],
             ),
-            Rot::General(m) => m,
-        };
-        Se3::new(r(self.placement) * r(self.joint), self.t)
+            JointRot::NONE,
+        ),
+        Kind::Other => (jm.placed_transform(placement, q), JointRot::NONE),
     }
+}
 
-    /// The inertia expressed in the parent frame.
-    #[inline(always)]
-    pub(crate) fn act_inertia(&self, y: &OriginInertia) -> OriginInertia {
-        let h = self.placement.apply(self.joint.apply(y.h));
-        let i = self.placement.apply_sym(&self.joint.apply_sym(&y.i));
-        OriginInertia { m: y.m, h, i }.translated(self.t)
-    }
+/// An inertia in the child frame of `x = T(t)·R_placement·R_joint`, expressed in the parent
+/// frame: the rotations are applied in their cheap forms.
+#[inline(always)]
+pub(crate) fn act_inertia(
+    y: &OriginInertia,
+    joint: JointRot,
+    placement: &Rot,
+    t: DVec3,
+) -> OriginInertia {
+    let jr = joint.rot();
+    let h = placement.apply(jr.apply(y.h));
+    let i = placement.apply_sym(&jr.apply_sym(&y.i));
+    OriginInertia { m: y.m, h, i }.translated(t)
 }
 
 impl OriginInertia {
@@ -638,16 +611,16 @@ mod factored_tests {
                     &[0.7]
                 };
                 let x = jm.placed_transform(p, q);
-                let fx = Factored::new(&jm, p, rot, q);
-                assert!(fx.to_se3().abs_diff_eq(&x, 1e-15, 1e-15), "{jm:?} {form}");
-                let (x2, fx2) = Factored::with_se3(&jm, p, rot, q);
-                assert!(
-                    x2.abs_diff_eq(&x, 1e-15, 1e-15) && fx2 == fx,
-                    "{jm:?} {form}"
-                );
+                let (x2, jr) = placed_transform_factored(&jm, p, q);
+                assert!(x2.abs_diff_eq(&x, 1e-15, 1e-15), "{jm:?} {form}");
                 assert!(act_force(&x, &f).abs_diff_eq(&x.act_force(&f), 1e-14));
                 assert!(inv_motion(&x, &m).abs_diff_eq(&x.act_inv_motion(&m), 1e-14));
-                let a = fx.act_inertia(&y);
+                let placement_rot = if Kind::of(&jm) == Kind::Other {
+                    Rot::General(x.rotation)
+                } else {
+                    rot
+                };
+                let a = act_inertia(&y, jr, &placement_rot, x.translation);
                 let b = OriginInertia::from_inertia(&inertia.transformed(&x));
                 assert!((a.m - b.m).abs() < 1e-15 && (a.h - b.h).length() < 1e-14);
                 assert!(
