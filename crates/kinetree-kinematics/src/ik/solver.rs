@@ -166,8 +166,7 @@ struct Workspace {
 }
 
 impl Workspace {
-    fn new(model: &Model, max_targets: usize) -> Self {
-        let (nq, nv, nb) = (model.nq(), model.nv(), model.nbodies());
+    fn new(nq: usize, nv: usize, nb: usize, max_targets: usize) -> Self {
         let rows = 6 * max_targets;
         Self {
             marked: vec![false; nb],
@@ -388,7 +387,7 @@ impl IkSolver {
             rng: SmallRng::seed_from_u64(params.seed),
             seeder: None,
             observer: None,
-            ws: Workspace::new(model, params.max_targets),
+            ws: Workspace::new(model.nq(), model.nv(), model.nbodies(), params.max_targets),
             params,
         }
     }
@@ -399,17 +398,18 @@ impl IkSolver {
         &self.params
     }
 
-    /// Replaces the parameters (reallocates the buffers when `max_targets` grows).
-    pub fn set_params(&mut self, model: &Model, mut params: IkParams) {
+    /// Replaces the parameters (reallocates the buffers when `max_targets` changes).
+    pub fn set_params(&mut self, mut params: IkParams) {
         params.max_targets = params.max_targets.max(1);
         if params.max_targets != self.params.max_targets {
-            self.ws = Workspace::new(model, params.max_targets);
+            self.ws = Workspace::new(self.nq, self.nv, self.nbodies, params.max_targets);
         }
         self.params = params;
     }
 
     /// Lets only the named joints move (always further restricted to the joints on the paths to
-    /// the targets). Names of fixed joints are accepted and ignored.
+    /// the targets). Names of fixed joints are accepted and ignored; a coupled mimic follower
+    /// moves with its leader, so name the leader.
     ///
     /// # Errors
     /// [`KinematicsError::UnknownJoint`] for a name that is not a joint of `model`;
@@ -463,8 +463,9 @@ impl IkSolver {
                 index: 0,
             });
         }
-        self.posture.copy_from_slice(q_posture);
-        crate::configuration::normalize(model, &mut self.posture)?;
+        let mut posture = q_posture.to_vec();
+        crate::configuration::normalize(model, &mut posture)?;
+        self.posture.copy_from_slice(&posture);
         self.posture_gain = gain.clamp(0.0, 1.0);
         Ok(())
     }

@@ -540,6 +540,17 @@ fn bad_inputs_are_typed_errors() {
         solver.set_posture(&model, &q0[..2], 0.1),
         Err(KinematicsError::DimensionMismatch { .. })
     ));
+    // Fewer target slots after set_params.
+    solver.set_params(IkParams {
+        max_targets: 1,
+        ..params()
+    });
+    assert_eq!(solver.params().max_targets, 1);
+    assert!(matches!(
+        solver.solve_targets(&model, &mut data, &[good; 2], &q0),
+        Err(KinematicsError::DimensionMismatch { .. })
+    ));
+    assert!(solver.solve(&model, &mut data, &good, &q0).is_ok());
 }
 
 #[test]
