@@ -109,6 +109,15 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         "\ntarget: >= 99.9 % success, median <= 50 µs, p95 <= 500 µs: {}",
         if all_ok { "met" } else { "NOT met" }
     );
+    // Wall-clock times include the machine's scheduling pauses: say how busy it was.
+    if let Ok(load) = std::fs::read_to_string("/proc/loadavg") {
+        let load: Vec<&str> = load.split_whitespace().take(3).collect();
+        println!(
+            "load average {} (1, 5, 15 min) on {} CPUs",
+            load.join(" "),
+            std::thread::available_parallelism().map_or(1, usize::from)
+        );
+    }
     Ok(())
 }
 
