@@ -50,9 +50,9 @@
 //! - **Signed distance:** positive = separation distance; negative = penetration depth (the
 //!   shortest translation separating the shapes), as coal (Pinocchio's collision library)
 //!   reports it. Two spheres, a sphere and a box, cylinder or capsule, and two cylinders side
-//!   to side are computed in closed form; other separated convex pairs by GJK to a relative
-//!   precision of 1e-8; penetrating convex pairs by parry's EPA; triangle meshes by parry's
-//!   composite-shape queries.
+//!   to side are computed in closed form; other convex pairs by GJK (separated) and EPA
+//!   (penetrating) to a relative precision of 1e-8, with parry's GJK/EPA as the fallback;
+//!   triangle meshes by parry's composite-shape queries.
 //! - Witness points and normals ([`Proximity`]) are in the world frame; the normal points from
 //!   the first shape toward the second.
 //! - URDF shapes: box = full side lengths, cylinder = radius and full length along the

@@ -73,6 +73,7 @@ impl Kind {
 pub(crate) struct Scratch {
     epa: EPA,
     simplex: VoronoiSimplex,
+    polytope: crate::gjk::Polytope,
 }
 
 impl core::fmt::Debug for Scratch {
@@ -242,10 +243,11 @@ where
     G1: ?Sized + SupportMap,
     G2: ?Sized + SupportMap,
 {
-    // Distance queries: the lean GJK first (separated shapes); parry's GJK/EPA otherwise and
+    // Distance queries: the lean GJK/EPA first; parry's GJK/EPA when they do not settle, and
     // for collision queries, where parry's GJK stops at the first separating direction.
     if max_dist > 0.0 {
-        if let Some(local) = crate::gjk::separated_distance(pos12, g1, g2, dir) {
+        if let Some(local) = crate::gjk::signed_distance(pos12, g1, g2, dir, &mut scratch.polytope)
+        {
             return (local.3 <= max_dist).then_some(local);
         }
     }
@@ -357,7 +359,13 @@ where
 /// The closest point of a solid primitive to the centre is exact (clamping); for a centre inside,
 /// the nearest face (or side) gives the penetration depth, as in parry's point projection.
 fn ball_primitive(center: DVec3, radius: f64, kind: &Kind, pose: &Pose) -> Option<Witness> {
-    let c = pose.inverse_transform_point(center);
+    if matches!(kind, Kind::Ball(_) | Kind::Other) {
+        return None;
+    }
+    // One quaternion-to-matrix conversion, then matrix products (cheaper than three quaternion
+    // rotations).
+    let rot = glam::DMat3::from_quat(pose.rotation);
+    let c = rot.transpose() * (center - pose.translation);
     // (point on the primitive's surface, outward unit normal there, signed distance centre-surface)
     let (surface, normal, signed) = match kind {
         Kind::Cylinder(cyl) => {
@@ -429,10 +437,10 @@ fn ball_primitive(center: DVec3, radius: f64, kind: &Kind, pose: &Pose) -> Optio
         }
         _ => return None,
     };
-    let n = pose.rotation * normal;
+    let n = rot * normal;
     Some(Witness {
         distance: signed - radius,
-        point_a: pose.transform_point(surface),
+        point_a: rot * surface + pose.translation,
         point_b: center - n * radius,
         normal: n,
     })
