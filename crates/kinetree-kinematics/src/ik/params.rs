@@ -54,9 +54,10 @@ pub struct IkParams {
     /// 7-DoF arms by a sixth compared with 1.
     pub orientation_weight: f64,
     /// Levenberg–Marquardt damping relative to the error: the damping added to `JᵀJ` is
-    /// `λ = μ · (½|r|² + damping_floor)`, with `μ` starting at this value and adapted by the
-    /// gain ratio of each step (down when the error model predicts the step well, up when a step
-    /// is rejected). Default 0.1.
+    /// `λ = μ · (|r| + damping_floor)`, `|r|` the weighted residual norm (Fan and Yuan's choice,
+    /// which keeps the final convergence quadratic), with `μ` starting at this value and adapted
+    /// by the gain ratio of each step (down when the error model predicts the step well, up when
+    /// a step is rejected). Default 0.1.
     pub damping: f64,
     /// Error-independent part of the damping (keeps `JᵀJ + λI` well conditioned at
     /// singularities; small enough not to slow the final quadratic convergence). Default 1e-9.

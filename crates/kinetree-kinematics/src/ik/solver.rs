@@ -6,7 +6,7 @@
 //!
 //! 1. `(JᵀJ + λI) δ = Jᵀ(-r - J z)`, `dq = z + δ`, where `z` is the posture step (zero without a
 //!    posture). With `λ → 0` this is the Gauss–Newton step plus `z` projected on the null space of
-//!    `J`. `λ = μ (½|r|² + λ₀)`: large far from the target, vanishing at it, so the last steps
+//!    `J`. `λ = μ (|r| + λ₀)`: large far from the target, vanishing at it, so the last steps
 //!    converge quadratically. When `J` has fewer rows `m` than free columns `n` (a redundant arm,
 //!    several targets on a humanoid) the same `δ` is computed as `Jᵀ(JJᵀ + λI)⁻¹(-r - J z)`, an
 //!    `m x m` system instead of `n x n`.
@@ -664,7 +664,7 @@ impl IkSolver {
                     ws.linearize(model, data);
                     linearized = true;
                 }
-                let lambda = mu * (cur.e + params.damping_floor);
+                let lambda = mu * ((2.0 * cur.e).sqrt() + params.damping_floor);
                 it += 1;
                 total += 1;
                 let Some(predicted) = step(ws, model, bounds, params, lambda, posture) else {
