@@ -38,6 +38,11 @@ pub struct BatchOptions {
     /// Leave the joints' damping, friction and armature out of the dynamics, as Pinocchio (and
     /// its reference data) does; by default they come from the model.
     pub ignore_joint_dynamics: bool,
+    /// When set, every sample gets `collision`: one `{"link_a", "link_b", "distance"}` per
+    /// candidate link pair, the minimum signed distance over their shapes (positive separation,
+    /// negative penetration), built with these options.
+    #[cfg(feature = "collision")]
+    pub collision: Option<crate::collision::CollisionOptions>,
 }
 
 /// The `model` block of a response: name, sizes and every moving joint's blocks.
@@ -166,6 +171,20 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
         .collect::<Result<_, _>>()?;
     let mut data = KinematicsData::new(model);
     let mut jac = vec![Motion::ZERO; model.nv()];
+    #[allow(unused_mut, reason = "only the collision feature adds skipped meshes")]
+    let mut skipped_meshes: Vec<Value> = Vec::new();
+    #[cfg(feature = "collision")]
+    let mut collision = match &options.collision {
+        Some(o) => {
+            let cmodel = crate::collision::CollisionModel::from_model(model, o)?;
+            let cdata = crate::collision::CollisionData::new(&cmodel);
+            for skipped in cmodel.skipped_meshes() {
+                skipped_meshes.push(json!(format!("{skipped:?}")));
+            }
+            Some((cmodel, cdata))
+        }
+        None => None,
+    };
     #[cfg(feature = "dynamics")]
     let mut dynamics_data = crate::dynamics::DynamicsData::with_joint_terms(
         model,
@@ -204,13 +223,27 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
         if !jacobians.is_empty() {
             s.insert("jacobians".into(), Value::Object(jacobians));
         }
+        #[cfg(feature = "collision")]
+        if let Some((cmodel, cdata)) = &mut collision {
+            let pairs =
+                crate::collision::link_pair_distances(model, cmodel, &mut data, cdata, &input.q)?;
+            let list: Vec<Value> = pairs
+                .into_iter()
+                .map(|(a, b, d)| json!({"link_a": a, "link_b": b, "distance": d}))
+                .collect();
+            s.insert("collision".into(), Value::Array(list));
+        }
         #[cfg(feature = "dynamics")]
         if !options.no_dynamics {
             dynamics::add(model, &mut dynamics_data, &input, &mut s)?;
         }
         out.push(Value::Object(s));
     }
-    Ok(json!({"model": model_summary(model), "samples": out}))
+    let mut summary = model_summary(model);
+    if !skipped_meshes.is_empty() {
+        summary["skipped_meshes"] = Value::Array(skipped_meshes);
+    }
+    Ok(json!({"model": summary, "samples": out}))
 }
 
 /// A vector in the model's `v` order keyed by joint name (numbers for 1-DoF joints, arrays for

@@ -40,8 +40,10 @@ pub enum Error {
     #[cfg(feature = "dynamics")]
     #[error(transparent)]
     Dynamics(#[from] crate::dynamics::DynamicsError),
-    // The other layers' errors join here as those crates gain them, each behind its feature:
-    //   #[cfg(feature = "collision")]  #[error(transparent)] Collision(#[from] crate::collision::CollisionError),
+    /// Building a collision model or a collision query failed.
+    #[cfg(feature = "collision")]
+    #[error(transparent)]
+    Collision(#[from] crate::collision::CollisionError),
     // A layer error that wraps the one below (KinematicsError::Model) stays in its own variant:
     // `From` goes by type, so `?` on a KinematicsError gives Error::Kinematics.
 }

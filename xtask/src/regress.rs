@@ -126,6 +126,10 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
         no_dynamics: false,
         // The reference ignores URDF <dynamics> damping and friction, as Pinocchio does.
         ignore_joint_dynamics: true,
+        // Collision is compared where the reference has it (primitive geometry, no meshes).
+        collision: reference["samples"][0]["collision"]
+            .is_array()
+            .then(kinetree::collision::CollisionOptions::default),
     };
     let response = evaluate(&model, &reference, &options)
         .with_context(|| format!("{robot}: evaluation failed"))?;
@@ -174,6 +178,8 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
     let mut com = Row::new(&robot, "com", rel);
     let mut energy = Row::new(&robot, "kinetic_energy", rel);
     let mut momentum = Row::new(&robot, "centroidal_momentum", rel);
+    let mut collision = Row::new(&robot, "collision", Tolerance::Absolute(1e-6));
+    let mut pair_sets_equal = true;
     let samples = reference["samples"]
         .as_array()
         .map(Vec::as_slice)
@@ -245,10 +251,49 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
         if let Some(e) = sample["kinetic_energy"].as_f64() {
             energy.record(&[(f(&ours["kinetic_energy"]), e)]);
         }
+        if let Some(expected) = sample["collision"].as_array() {
+            // Unordered link pairs: kinetree and Pinocchio order links differently.
+            let key = |p: &Value| {
+                let (a, b) = (
+                    p["link_a"].as_str().unwrap_or_default(),
+                    p["link_b"].as_str().unwrap_or_default(),
+                );
+                if a < b {
+                    (a.to_string(), b.to_string())
+                } else {
+                    (b.to_string(), a.to_string())
+                }
+            };
+            let got: HashMap<(String, String), f64> = ours["collision"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .map(|p| (key(p), f(&p["distance"])))
+                .collect();
+            pair_sets_equal &= got.len() == expected.len();
+            let mut pairs = Vec::new();
+            for p in expected {
+                match got.get(&key(p)) {
+                    Some(&d) => pairs.push((d, f(&p["distance"]))),
+                    None => {
+                        pair_sets_equal = false;
+                        pairs.push((f64::NAN, f(&p["distance"])));
+                    }
+                }
+            }
+            collision.record(&pairs);
+        }
+    }
+    if !pair_sets_equal {
+        // A pair missing on either side fails the check.
+        collision.record(&[(f64::NAN, 0.0)]);
     }
     let mut rows = vec![poses, jacobians];
     rows.extend(vectors);
     rows.extend([mass_matrix, com, energy, momentum]);
+    if collision.entries > 0 {
+        rows.push(collision);
+    }
     Ok(rows)
 }
 

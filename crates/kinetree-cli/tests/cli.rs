@@ -437,3 +437,58 @@ fn simulate_conserves_energy_and_writes_a_plot() {
     let svg = std::fs::read_to_string(&plot).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("joint1") && svg.contains("mechanical energy"));
 }
+
+#[test]
+fn collide_reports_hand_computed_distances() {
+    // Two unit-radius balls, a on the base and b two joints out (adjacent links are never
+    // candidates): centres 3 m apart at q = 0, so the signed distance is 1 m; at slide = -1.5
+    // they overlap by 0.5 m. A 0.2 m ball obstacle at x = 5 is 0.8 m from b at q = 0.
+    let dir = scratch("collide");
+    let urdf = dir.join("balls.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="balls">
+      <link name="a"><collision><geometry><sphere radius="1"/></geometry></collision></link>
+      <link name="m"/>
+      <link name="b"><collision><geometry><sphere radius="1"/></geometry></collision></link>
+      <joint name="slide" type="prismatic"><parent link="a"/><child link="m"/><origin xyz="3 0 0"/>
+        <axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+      <joint name="turn" type="revolute"><parent link="m"/><child link="b"/>
+        <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+    </robot>"#,
+    )
+    .unwrap();
+    let scene = dir.join("scene.json");
+    std::fs::write(&scene, r#"{"obstacles": [{"name": "ball", "geometry": {"type": "sphere", "radius": 0.2}, "xyz": [5, 0, 0]}]}"#).unwrap();
+    let o = kinetree(&[
+        "collide",
+        urdf.to_str().unwrap(),
+        "--obstacles",
+        scene.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = format!("\n{}", stdout(&o));
+    assert!(text.contains("self-collisions: 0"), "{text}");
+    let closest = section(&text, "closest self pairs");
+    assert!(
+        (row(closest, "a_0")[2].parse::<f64>().unwrap() - 1.0).abs() < 1e-9,
+        "{text}"
+    );
+    let world = section(&text, "closest world pairs");
+    assert!(
+        (row(world, "b_0")[2].parse::<f64>().unwrap() - 0.8).abs() < 1e-9,
+        "{text}"
+    );
+    let o = kinetree(&["collide", urdf.to_str().unwrap(), "--q", "slide=-1.5"]);
+    let text = format!("\n{}", stdout(&o));
+    assert!(text.contains("self-collisions: 1"), "{text}");
+    assert!(
+        (row(section(&text, "self-collisions"), "a_0")[3]
+            .parse::<f64>()
+            .unwrap()
+            - 0.5)
+            .abs()
+            < 1e-9,
+        "{text}"
+    );
+}

@@ -5,7 +5,9 @@
 //! a tenth as many calls; this is repeated `--repetitions` times and the median ns/call is
 //! printed. With `--json` the output is
 //! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians",
-//! "rnea", "nle", "crba", "aba", "minv"}}`; the keys stay stable so scripts can compare runs.
+//! "rnea", "nle", "crba", "aba", "minv", "collision_any", "collision_distances"}}` (the collision keys
+//! only for models with collision geometry; meshes are looked up next to the model file and
+//! skipped when missing); the keys stay stable so scripts can compare runs.
 //! Velocities, accelerations and torques are drawn uniformly in [-1, 1].
 
 use anyhow::Result;
@@ -164,6 +166,36 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             let _ = black_box(mass_matrix_inverse(&model, &mut dd, black_box(q(i))).map(|m| m[0]));
         }),
     ));
+
+    let options = kinetree::collision::CollisionOptions::default()
+        .with_mesh_path(
+            args.model
+                .parent()
+                .map(std::path::Path::to_path_buf)
+                .unwrap_or_default(),
+        )
+        .skip_missing_meshes();
+    if let Ok(cmodel) = kinetree::collision::CollisionModel::from_model(&model, &options)
+        && !cmodel.pairs().is_empty()
+    {
+        let mut cd = kinetree::collision::CollisionData::new(&cmodel);
+        results.push((
+            "collision_any",
+            time(calls / 10, reps, |i| {
+                let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
+                let _ = black_box(kinetree::collision::any_collision(&cmodel, &mut cd));
+            }),
+        ));
+        results.push((
+            "collision_distances",
+            time(calls / 10, reps, |i| {
+                let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
+                let _ = black_box(
+                    kinetree::collision::compute_distances(&cmodel, &mut cd).map(|d| d.len()),
+                );
+            }),
+        ));
+    }
 
     if args.json {
         let map: serde_json::Map<String, serde_json::Value> = results

@@ -26,6 +26,15 @@ pub(crate) struct Args {
     /// Leave joint damping, friction and armature out of the dynamics (as Pinocchio does).
     #[arg(long)]
     ignore_joint_dynamics: bool,
+    /// Add `collision` to each sample: the minimum signed distance of every candidate link pair.
+    #[arg(long)]
+    collision: bool,
+    /// A directory where collision meshes are looked up (`package://` and relative names); repeatable.
+    #[arg(long = "mesh-path")]
+    mesh_paths: Vec<PathBuf>,
+    /// Drop collision meshes that cannot be found or read (they are listed on stderr).
+    #[arg(long)]
+    skip_missing_meshes: bool,
     /// Write the result here instead of standard output.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -42,9 +51,24 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         jacobians: args.jacobians.clone(),
         no_dynamics: false,
         ignore_joint_dynamics: args.ignore_joint_dynamics,
+        collision: args.collision.then(|| {
+            let mut o = kinetree::collision::CollisionOptions::default();
+            o.mesh_search_paths.clone_from(&args.mesh_paths);
+            if args.skip_missing_meshes {
+                o = o.skip_missing_meshes();
+            }
+            o
+        }),
     };
     let response = evaluate(&model, &request, &options)
         .with_context(|| format!("cannot evaluate {}", args.states.display()))?;
+    for skipped in response["model"]["skipped_meshes"]
+        .as_array()
+        .into_iter()
+        .flatten()
+    {
+        eprintln!("skipped mesh: {}", skipped.as_str().unwrap_or_default());
+    }
     let mut json = serde_json::to_string(&response)?;
     json.push('\n');
     match &args.out {

@@ -1,0 +1,156 @@
+//! `kinetree collide <model> --q name=value,… [--obstacles scene.json]`: colliding pairs and the
+//! closest pairs of a configuration, against itself and against world obstacles.
+//!
+//! A scene file holds `{"obstacles": [{"name": "table", "geometry": {"type": "box", "size":
+//! [1, 1, 0.1]}, "xyz": [0.5, 0, 0.3], "rpy": [0, 0, 0]}]}` (geometry as in kinetree's JSON
+//! model format: box, cylinder, sphere, capsule, mesh).
+
+use anyhow::{Context, Result};
+use kinetree::collision::{
+    CollisionData, CollisionModel, CollisionOptions, compute_distances, compute_world_distances,
+    self_collisions, world_collisions,
+};
+use kinetree::kinematics::KinematicsData;
+use kinetree::model::Geometry;
+use kinetree::spatial::Se3;
+use std::path::PathBuf;
+
+/// Arguments of `kinetree collide`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct Args {
+    /// The model file (.urdf or .json).
+    model: PathBuf,
+    /// Attach the root link by a 6-DoF floating joint named `root_joint`.
+    #[arg(long)]
+    floating: bool,
+    /// Joint positions `name=value,…` (neutral otherwise).
+    #[arg(long)]
+    q: Option<String>,
+    /// A JSON scene of world obstacles.
+    #[arg(long)]
+    obstacles: Option<PathBuf>,
+    /// A directory where meshes are looked up (`package://` and relative names); repeatable.
+    #[arg(long = "mesh-path")]
+    mesh_paths: Vec<PathBuf>,
+    /// Skip meshes that cannot be found or read (listed on stderr).
+    #[arg(long)]
+    skip_missing_meshes: bool,
+    /// How many of the closest pairs to list.
+    #[arg(long, default_value_t = 10)]
+    closest: usize,
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Scene {
+    obstacles: Vec<SceneObstacle>,
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneObstacle {
+    name: String,
+    geometry: Geometry,
+    #[serde(default)]
+    xyz: [f64; 3],
+    #[serde(default)]
+    rpy: [f64; 3],
+}
+
+/// Runs the queries and prints the report.
+pub(crate) fn run(args: &Args) -> Result<()> {
+    let model = super::load_model(&args.model, super::root_joint(args.floating))?;
+    let q = super::parse_named(&model, args.q.as_deref(), false)?;
+    let mut options = CollisionOptions::default();
+    options.mesh_search_paths.clone_from(&args.mesh_paths);
+    if args.skip_missing_meshes {
+        options = options.skip_missing_meshes();
+    }
+    let cmodel = CollisionModel::from_model(&model, &options).with_context(|| {
+        format!(
+            "cannot build the collision model of {}",
+            args.model.display()
+        )
+    })?;
+    for skipped in cmodel.skipped_meshes() {
+        eprintln!("skipped mesh: {skipped:?}");
+    }
+    let mut data = CollisionData::new(&cmodel);
+    if let Some(path) = &args.obstacles {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        let scene: Scene = serde_json::from_str(&text)
+            .with_context(|| format!("cannot parse {}", path.display()))?;
+        for o in scene.obstacles {
+            data.add_obstacle(
+                o.name.clone(),
+                &o.geometry,
+                &Se3::from_xyz_rpy(o.xyz, o.rpy),
+                &options,
+            )
+            .with_context(|| format!("obstacle '{}' in {}", o.name, path.display()))?;
+        }
+    }
+    let mut kin = KinematicsData::new(&model);
+    data.compute_placements(&model, &cmodel, &mut kin, &q)?;
+    let shape_link = |s: usize| cmodel.shapes()[s].name();
+    let obstacle_name = |data: &CollisionData, id: usize| -> String {
+        data.obstacles()
+            .find(|(oid, _)| oid.0 == id)
+            .map_or_else(|| format!("#{id}"), |(_, o)| o.name().to_string())
+    };
+
+    println!(
+        "{}: {} shapes, {} candidate pairs",
+        model.name(),
+        cmodel.shapes().len(),
+        cmodel.pairs().len()
+    );
+    let contacts = self_collisions(&cmodel, &mut data)?.to_vec();
+    println!("self-collisions: {}", contacts.len());
+    for c in &contacts {
+        println!(
+            "  {:<24} {:<24} depth {:.6} m",
+            shape_link(c.a),
+            shape_link(c.b),
+            -c.distance
+        );
+    }
+    let world = world_collisions(&cmodel, &mut data)?.to_vec();
+    if args.obstacles.is_some() {
+        println!("world collisions: {}", world.len());
+        for c in &world {
+            println!(
+                "  {:<24} {:<24} depth {:.6} m",
+                shape_link(c.a),
+                obstacle_name(&data, c.b),
+                -c.distance
+            );
+        }
+    }
+    let mut distances = compute_distances(&cmodel, &mut data)?.to_vec();
+    distances.sort_by(|x, y| x.distance.total_cmp(&y.distance));
+    println!("closest self pairs (signed distance, m):");
+    for d in distances.iter().take(args.closest) {
+        println!(
+            "  {:<24} {:<24} {:>10.6}",
+            shape_link(d.a),
+            shape_link(d.b),
+            d.distance
+        );
+    }
+    if args.obstacles.is_some() {
+        let mut w = compute_world_distances(&cmodel, &mut data)?.to_vec();
+        w.sort_by(|x, y| x.distance.total_cmp(&y.distance));
+        println!("closest world pairs (signed distance, m):");
+        for d in w.iter().take(args.closest) {
+            println!(
+                "  {:<24} {:<24} {:>10.6}",
+                shape_link(d.a),
+                obstacle_name(&data, d.b),
+                d.distance
+            );
+        }
+    }
+    Ok(())
+}
