@@ -611,7 +611,7 @@ impl IkSolver {
             }
             if !chosen {
                 if q0_used {
-                    random_start(model, bounds, &ws.moving, rng, &mut ws.q_trial);
+                    random_start(model, &ws.moving, rng, &mut ws.q_trial);
                 } else {
                     q0_used = true;
                 }
@@ -1102,13 +1102,7 @@ fn step(
 /// Draws a random start for the moving joints: uniform within the limits (a 2π window for
 /// angles with wider limits, [-π, π] for continuous joints), uniform rotations for spherical
 /// joints; planar and floating joints keep their value.
-fn random_start(
-    model: &Model,
-    _bounds: &[DofBound],
-    moving: &[usize],
-    rng: &mut SmallRng,
-    q: &mut [f64],
-) {
+fn random_start(model: &Model, moving: &[usize], rng: &mut SmallRng, q: &mut [f64]) {
     let bodies = model.bodies();
     for &b in moving {
         let body = &bodies[b];
