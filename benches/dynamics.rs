@@ -26,7 +26,10 @@ const ROBOTS: [(&str, RootJoint); 4] = [
 ];
 
 fn load(name: &str, root: RootJoint) -> Model {
-    let path = format!("{}/tests/data/reference/urdf/{name}.urdf", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/tests/data/reference/urdf/{name}.urdf",
+        env!("CARGO_MANIFEST_DIR")
+    );
     Model::from_urdf_file(&path, root).expect("bundled reference URDF")
 }
 
@@ -43,7 +46,11 @@ fn states(model: &Model) -> Vec<State> {
         .map(|_| {
             let mut q = vec![0.0; model.nq()];
             random_configuration(model, &mut rng, &mut q).expect("length nq");
-            let mut uniform = || (0..model.nv()).map(|_| rng.random_range(-1.0..1.0)).collect::<Vec<f64>>();
+            let mut uniform = || {
+                (0..model.nv())
+                    .map(|_| rng.random_range(-1.0..1.0))
+                    .collect::<Vec<f64>>()
+            };
             let v = uniform();
             let a = uniform();
             State { q, v, a }
