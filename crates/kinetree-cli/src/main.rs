@@ -29,6 +29,8 @@ enum Command {
     Compute(cmd::compute::Args),
     /// Time each algorithm on random in-limit states of a model (median ns/call).
     Bench(cmd::bench::Args),
+    /// Inverse kinematics of one frame: the joint values that place it at a target pose.
+    Ik(cmd::ik::Args),
     /// Colliding pairs and closest pairs of a configuration, against itself and world obstacles.
     Collide(cmd::collide::Args),
     /// Inverse dynamics (τ), forward dynamics (q̈) and the mass matrix of one state, by joint name.
@@ -50,6 +52,7 @@ fn main() -> ExitCode {
         Command::Workspace(args) => cmd::workspace::run(&args),
         Command::Dynamics(args) => cmd::dynamics::run(&args),
         Command::Collide(args) => cmd::collide::run(&args),
+        Command::Ik(args) => cmd::ik::run(&args),
         Command::Simulate(args) => cmd::simulate::run(&args),
     };
     match result {

@@ -492,3 +492,55 @@ fn collide_reports_hand_computed_distances() {
         "{text}"
     );
 }
+
+#[test]
+fn ik_solution_places_the_frame_where_compute_finds_it() {
+    let o = kinetree(&[
+        "ik",
+        &panda(),
+        "--frame",
+        "panda_hand_tcp",
+        "--target",
+        "0.4,0.2,0.5,3.14159,0,0",
+        "--seed",
+        "3",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(report["status"], "converged", "{report}");
+    assert!(report["position_error"].as_f64().unwrap() < 1e-6);
+    // Independent check: forward kinematics of the answer through `kinetree compute`.
+    let dir = scratch("ik");
+    let states = dir.join("states.json");
+    std::fs::write(
+        &states,
+        serde_json::json!({"samples": [{"q": report["q"]}]}).to_string(),
+    )
+    .unwrap();
+    let o = kinetree(&["compute", &panda(), "--states", states.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let result: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let pose = &result["samples"][0]["link_poses"]["panda_hand_tcp"];
+    for (k, want) in [0.4, 0.2, 0.5].iter().enumerate() {
+        assert!(
+            (pose["translation"][k].as_f64().unwrap() - want).abs() < 1e-6,
+            "{pose}"
+        );
+    }
+    // roll = π about x: the tool's z axis points down.
+    assert!(
+        (pose["rotation"][2][2].as_f64().unwrap() + 1.0).abs() < 1e-5,
+        "{pose}"
+    );
+    let o = kinetree(&[
+        "ik",
+        &panda(),
+        "--frame",
+        "no_such_frame",
+        "--target",
+        "0,0,0",
+        "--position-only",
+    ]);
+    assert!(!o.status.success() && stderr(&o).contains("no_such_frame"));
+}

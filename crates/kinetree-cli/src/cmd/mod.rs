@@ -5,6 +5,7 @@ pub(crate) mod collide;
 pub(crate) mod compute;
 pub(crate) mod convert;
 pub(crate) mod dynamics;
+pub(crate) mod ik;
 pub(crate) mod inspect;
 pub(crate) mod simulate;
 pub(crate) mod workspace;

@@ -1,0 +1,145 @@
+//! `kinetree ik <model> --frame F --target x,y,z[,roll,pitch,yaw]`: inverse kinematics of one
+//! frame; prints the solution by joint name and the solver's report.
+//!
+//! Only the joints on the path from the root to the frame move (the solver's default); the others
+//! keep their start value.
+
+use anyhow::{Context, Result, bail};
+use kinetree::kinematics::ik::{IkParams, IkSolver, IkStatus, IkTarget};
+use kinetree::kinematics::{FrameId, KinematicsData};
+use kinetree::spatial::{DQuat, DVec3, Se3};
+use std::path::PathBuf;
+
+/// Arguments of `kinetree ik`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct Args {
+    /// The model file (.urdf or .json).
+    model: PathBuf,
+    /// Attach the root link by a 6-DoF floating joint named `root_joint`.
+    #[arg(long)]
+    floating: bool,
+    /// The link or named frame to place.
+    #[arg(long)]
+    frame: String,
+    /// Target position `x,y,z` (m, world frame), optionally followed by URDF `roll,pitch,yaw` (rad).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    target: Vec<f64>,
+    /// Target orientation as a quaternion `x,y,z,w` (instead of roll, pitch, yaw).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    quat: Option<Vec<f64>>,
+    /// Reach the position only; the orientation is free.
+    #[arg(long)]
+    position_only: bool,
+    /// Seed of the random restarts.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Start configuration `name=value,…` (neutral otherwise).
+    #[arg(long)]
+    start: Option<String>,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Solves and prints.
+pub(crate) fn run(args: &Args) -> Result<()> {
+    let model = super::load_model(&args.model, super::root_joint(args.floating))?;
+    let frame = FrameId::find(&model, &args.frame)?;
+    let t = &args.target;
+    if !(t.len() == 3 || t.len() == 6) {
+        bail!(
+            "--target takes x,y,z or x,y,z,roll,pitch,yaw (got {} numbers)",
+            t.len()
+        );
+    }
+    let position = DVec3::new(t[0], t[1], t[2]);
+    let target = if args.position_only {
+        IkTarget::position(frame, position)
+    } else {
+        let rotation = match (&args.quat, t.len()) {
+            (Some(q), 3) if q.len() == 4 => {
+                let quat = DQuat::from_xyzw(q[0], q[1], q[2], q[3]);
+                if !(quat.length() > 0.0 && quat.is_finite()) {
+                    bail!("--quat must be a nonzero quaternion x,y,z,w");
+                }
+                Se3::from_quat(quat.normalize()).rotation
+            }
+            (Some(_), 3) => bail!("--quat takes four numbers x,y,z,w"),
+            (Some(_), _) => bail!(
+                "give the orientation either as roll,pitch,yaw in --target or as --quat, not both"
+            ),
+            (None, 6) => Se3::from_rpy(t[3], t[4], t[5]).rotation,
+            (None, _) => bail!(
+                "give an orientation (roll,pitch,yaw in --target, or --quat) or --position-only"
+            ),
+        };
+        IkTarget::new(frame, Se3::new(rotation, position))
+    };
+    let q0 = super::parse_named(&model, args.start.as_deref(), false)?;
+    let params = IkParams {
+        seed: args.seed,
+        ..IkParams::default()
+    };
+    let mut solver = IkSolver::new(&model, params);
+    let mut data = KinematicsData::new(&model);
+    let report = solver
+        .solve(&model, &mut data, &target, &q0)
+        .context("inverse kinematics failed")?;
+    let status = match report.status {
+        IkStatus::Converged => "converged".to_string(),
+        IkStatus::BestEffort { residual } => format!("best_effort (residual {residual:.3e})"),
+        IkStatus::Failed => "failed".to_string(),
+    };
+    let values: Vec<(String, Vec<f64>)> = model
+        .moving_joints()
+        .map(|j| {
+            (
+                model.joint(j).name.clone(),
+                report.q[model.joint_q_range(j)].to_vec(),
+            )
+        })
+        .collect();
+    if args.json {
+        let q: serde_json::Map<String, serde_json::Value> = values
+            .iter()
+            .map(|(n, v)| {
+                (
+                    n.clone(),
+                    if v.len() == 1 {
+                        serde_json::json!(v[0])
+                    } else {
+                        serde_json::json!(v)
+                    },
+                )
+            })
+            .collect();
+        let status_key = match report.status {
+            IkStatus::Converged => "converged",
+            IkStatus::BestEffort { .. } => "best_effort",
+            IkStatus::Failed => "failed",
+        };
+        let out = serde_json::json!({
+            "status": status_key, "q": q,
+            "position_error": report.position_error, "orientation_error": report.orientation_error,
+            "iterations": report.iterations, "restarts": report.restarts,
+            "elapsed_us": report.elapsed.as_secs_f64() * 1e6,
+        });
+        println!("{out}");
+    } else {
+        println!("status: {status}");
+        println!(
+            "position error {:.3e} m, orientation error {:.3e} rad, {} iterations, {} restarts, {:.1} µs",
+            report.position_error,
+            report.orientation_error,
+            report.iterations,
+            report.restarts,
+            report.elapsed.as_secs_f64() * 1e6
+        );
+        println!("q:");
+        for (n, v) in &values {
+            let x: Vec<String> = v.iter().map(|x| format!("{x:.9}")).collect();
+            println!("  {n:<28} {}", x.join(" "));
+        }
+    }
+    Ok(())
+}
