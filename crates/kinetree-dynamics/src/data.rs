@@ -57,6 +57,8 @@ pub struct DynamicsData {
     pub(crate) nbodies: usize,
     pub(crate) nlinks: usize,
     pub(crate) nframes: usize,
+    /// A coupled mimic joint of the model, if any: the dynamics algorithms do not support them.
+    pub(crate) coupled_mimic: Option<String>,
     pub(crate) joint_terms: JointTerms,
     /// Whether any of `armature`, `damping`, `friction` is nonzero.
     pub(crate) has_joint_terms: bool,
@@ -159,6 +161,12 @@ impl DynamicsData {
             nbodies: nb,
             nlinks: model.links().len(),
             nframes: model.frames().len(),
+            coupled_mimic: model
+                .bodies()
+                .iter()
+                .find(|b| b.mimic.is_some())
+                .and_then(|b| b.joint)
+                .map(|j| model.joint(j).name.clone()),
             joint_terms,
             has_joint_terms: false,
             armature: vec![0.0; nv],
@@ -276,6 +284,11 @@ impl DynamicsData {
                 data_nv: self.nv,
                 model_bodies: model.nbodies(),
                 model_nv: model.nv(),
+            });
+        }
+        if let Some(joint) = &self.coupled_mimic {
+            return Err(DynamicsError::CoupledMimic {
+                joint: joint.clone(),
             });
         }
         Ok(())

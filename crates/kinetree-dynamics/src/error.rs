@@ -81,6 +81,17 @@ pub enum DynamicsError {
         /// The step given (s).
         dt: f64,
     },
+    /// The model has coupled mimic joints ([`MimicMode::Coupled`]), which the dynamics algorithms
+    /// do not support yet: load it with independent mimic joints (the default).
+    ///
+    /// [`MimicMode::Coupled`]: kinetree_kinematics::model::MimicMode::Coupled
+    #[error(
+        "joint '{joint}' is a coupled mimic joint; the dynamics algorithms need mimic joints loaded as independent DoFs"
+    )]
+    CoupledMimic {
+        /// A coupled mimic joint of the model.
+        joint: String,
+    },
 }
 
 /// Checks the length and finiteness of an input vector.

@@ -2,7 +2,7 @@
 //! robot (what MuJoCo's testspeed is to MuJoCo).
 //!
 //! Each algorithm runs `--calls` times, cycling through 1000 random states, after a warm-up of
-//! a tenth as many calls; this is repeated `--repetitions` times and the median ns/call is
+//! as many calls; this is repeated `--repetitions` times and the median ns/call is
 //! printed. With `--json` the output is
 //! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians",
 //! "rnea", "nle", "crba", "aba", "minv", "collision_any", "collision_distances"}}` (the collision keys
@@ -49,7 +49,8 @@ pub(crate) struct Args {
 
 /// Median ns/call of `f(i)` over `reps` repetitions of `calls` calls (after a warm-up).
 fn time(calls: usize, reps: usize, mut f: impl FnMut(usize)) -> f64 {
-    for i in 0..calls / 10 + 1 {
+    // Warm up for a whole repetition: caches, branch predictors and the clock settle.
+    for i in 0..calls.max(1) {
         f(i);
     }
     let mut per_call: Vec<f64> = (0..reps.max(1))

@@ -279,3 +279,29 @@ fn models_without_moving_joints_work() {
     )
     .unwrap();
 }
+
+#[test]
+fn coupled_mimic_models_are_rejected_not_miscomputed() {
+    use kinetree_dynamics::model::{LoadOptions, MimicMode};
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/data/robots/panda.urdf"
+    );
+    let options = LoadOptions {
+        mimic: MimicMode::Coupled,
+        ..LoadOptions::from(RootJoint::Fixed)
+    };
+    let panda = Model::from_urdf_file_with(path, &options).unwrap();
+    let mut data = DynamicsData::new(&panda);
+    let (q, v) = (vec![0.0; panda.nq()], vec![0.0; panda.nv()]);
+    for result in [
+        rnea(&panda, &mut data, &q, &v, &v).map(|_| ()),
+        crba(&panda, &mut data, &q).map(|_| ()),
+        aba(&panda, &mut data, &q, &v, &v).map(|_| ()),
+    ] {
+        assert!(
+            matches!(&result, Err(DynamicsError::CoupledMimic { joint }) if joint == "panda_finger_joint2"),
+            "{result:?}"
+        );
+    }
+}
