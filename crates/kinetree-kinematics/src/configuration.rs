@@ -370,14 +370,27 @@ pub fn is_within_limits(model: &Model, q: &[f64], tolerance: f64) -> Result<bool
     }))
 }
 
-/// The length of `difference(q0, q1)`: a distance on the configuration manifold.
+/// The length of `difference(q0, q1)`: a distance on the configuration manifold. Allocates
+/// nothing.
 ///
 /// # Errors
-/// As [`difference`].
+/// Length or finiteness errors for `q0`, `q1`.
 pub fn distance(model: &Model, q0: &[f64], q1: &[f64]) -> Result<f64, KinematicsError> {
-    let mut v = vec![0.0; model.nv()];
-    difference(model, q0, q1, &mut v)?;
-    Ok(v.iter().map(|x| x * x).sum::<f64>().sqrt())
+    check_vector("q0", q0, model.nq())?;
+    check_vector("q1", q1, model.nq())?;
+    let mut v = [0.0f64; 6];
+    let mut sum = 0.0;
+    for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {
+        let v = &mut v[..b.nv];
+        difference_joint(
+            b.kind,
+            &q0[b.idx_q..b.idx_q + b.nq],
+            &q1[b.idx_q..b.idx_q + b.nq],
+            v,
+        );
+        sum += v.iter().map(|x| x * x).sum::<f64>();
+    }
+    Ok(sum.sqrt())
 }
 
 fn joint_block(
