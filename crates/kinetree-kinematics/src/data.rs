@@ -85,7 +85,6 @@ pub struct KinematicsData {
     pub(crate) world_velocity: Vec<Motion>,
     /// The configuration of the last forward kinematics (for consumers such as the Chain API).
     pub(crate) q: Vec<f64>,
-    pub(crate) v: Vec<f64>,
 }
 
 impl KinematicsData {
@@ -120,7 +119,6 @@ impl KinematicsData {
             mimic_jacobian_dot: vec![Motion::ZERO; nb],
             world_velocity: vec![Motion::ZERO; nb],
             q: vec![0.0; model.nq()],
-            v: vec![0.0; model.nv()],
         }
     }
 

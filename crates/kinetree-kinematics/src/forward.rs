@@ -64,7 +64,6 @@ pub fn forward_kinematics_with_velocity(
     check_vector("v", v, model.nv())?;
     placements(model, data, q);
     let bodies = model.bodies();
-    data.v.copy_from_slice(v);
     for i in 1..bodies.len() {
         let b = &bodies[i];
         let vj = data.joint_models[i].body_motion(b, v);
