@@ -2,6 +2,7 @@
 
 use crate::error::DynamicsError;
 use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::{Force, Se3};
 use kinetree_kinematics::{FrameId, ReferenceFrame};
 
@@ -196,6 +197,24 @@ impl ExternalForces {
                 ReferenceFrame::LocalWorldAligned => aligned_to_world(x, e),
             };
             f(e.body, world);
+        }
+    }
+    /// Calls `f(body, wrench in the world frame at the world origin, reference, world position of
+    /// the point of application)` for every wrench.
+    pub(crate) fn for_each_world_with_point(
+        &self,
+        world_from_body: &[Se3],
+        mut f: impl FnMut(usize, Force, ReferenceFrame, DVec3),
+    ) {
+        for e in &self.entries {
+            let x = &world_from_body[e.body];
+            let world = match e.reference {
+                ReferenceFrame::Local => (*x * e.body_from_frame).act_force(&e.force),
+                ReferenceFrame::World => e.force,
+                ReferenceFrame::LocalWorldAligned => aligned_to_world(x, e),
+            };
+            let point = x.transform_point(e.body_from_frame.translation);
+            f(e.body, world, e.reference, point);
         }
     }
 }

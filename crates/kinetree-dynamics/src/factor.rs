@@ -207,7 +207,7 @@ pub fn mass_matrix_inverse<'d>(
 /// From `L·Y = D⁻¹·L⁻ᵀ` (upper triangular) with `Y = M⁻¹` symmetric: for `j < i`,
 /// `Y[i][j] = -Σ_{l ∈ anc(i)} L[i][l]·Y[l][j]`, and `Y[i][i] = 1/D[i] - Σ_{l ∈ anc(i)} L[i][l]·Y[i][l]`.
 /// Rows are computed in order and mirrored at once, so every `Y[l][j]` needed is known.
-fn invert(data: &mut DynamicsData) {
+pub(crate) fn invert(data: &mut DynamicsData) {
     let nv = data.nv;
     let h = &data.factor;
     let parent = &data.dof_parent;

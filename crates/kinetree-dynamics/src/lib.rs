@@ -64,6 +64,7 @@ mod all_terms;
 mod com;
 mod crba;
 mod data;
+pub mod derivatives;
 mod energy;
 mod error;
 mod external;
@@ -81,6 +82,11 @@ pub use com::{
 };
 pub use crba::crba;
 pub use data::{DynamicsData, JointTerms};
+pub use derivatives::{
+    AbaDerivatives, DerivativesData, RneaDerivatives, aba_derivatives,
+    aba_derivatives_with_external_forces, generalized_gravity_derivatives, rnea_derivatives,
+    rnea_derivatives_with_external_forces,
+};
 pub use energy::{kinetic_energy, mechanical_energy, potential_energy};
 pub use error::DynamicsError;
 pub use external::ExternalForces;

@@ -100,3 +100,39 @@ fn hot_paths_do_not_allocate() {
         assert_eq!(count, 0, "{name}: the dynamics hot paths allocated");
     }
 }
+
+#[test]
+fn derivatives_do_not_allocate() {
+    use kinetree_dynamics::{
+        DerivativesData, aba_derivatives, aba_derivatives_with_external_forces,
+        generalized_gravity_derivatives, rnea_derivatives, rnea_derivatives_with_external_forces,
+    };
+    for (name, model) in all_models() {
+        let (q, v, a) = random_state(&model, &mut rng(8));
+        let mut data = DerivativesData::new(&model);
+        let mut fext = ExternalForces::new(&model);
+        let last = FrameId::Link(model.links().len() - 1);
+        let tau = vec![0.1; model.nv()];
+        let count = allocations_during(|| {
+            for _ in 0..3 {
+                fext.clear();
+                for reference in [
+                    ReferenceFrame::Local,
+                    ReferenceFrame::World,
+                    ReferenceFrame::LocalWorldAligned,
+                ] {
+                    fext.add(&model, last, reference, Force::new(DVec3::X, DVec3::Y))
+                        .unwrap();
+                }
+                rnea_derivatives(&model, &mut data, &q, &v, &a).unwrap();
+                rnea_derivatives_with_external_forces(&model, &mut data, &q, &v, &a, &fext)
+                    .unwrap();
+                generalized_gravity_derivatives(&model, &mut data, &q).unwrap();
+                aba_derivatives(&model, &mut data, &q, &v, &tau).unwrap();
+                aba_derivatives_with_external_forces(&model, &mut data, &q, &v, &tau, &fext)
+                    .unwrap();
+            }
+        });
+        assert_eq!(count, 0, "{name}: the derivatives allocated");
+    }
+}

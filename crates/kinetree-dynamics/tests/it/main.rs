@@ -2,6 +2,7 @@
 
 mod allocation;
 mod common;
+mod derivatives;
 mod errors;
 mod identities;
 mod reference;

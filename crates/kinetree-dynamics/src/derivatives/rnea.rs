@@ -1,0 +1,331 @@
+//! Derivatives of inverse dynamics and of the generalized gravity.
+
+use super::data::{Blocks, DerivativesData, RneaDerivatives, WorldInertia, skew};
+use crate::data::{NO_PARENT, sign};
+use crate::error::DynamicsError;
+use crate::external::ExternalForces;
+use crate::rnea::check_inputs;
+use kinetree_kinematics::ReferenceFrame;
+use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
+use kinetree_kinematics::spatial::{Force, Motion};
+
+/// The partial derivatives of inverse dynamics `τ = rnea(q, v, a)`: `∂τ/∂q` (in the tangent
+/// space, see the [module documentation](crate::derivatives)), `∂τ/∂v` and `∂τ/∂a = M(q)`, all
+/// in one pass, with `τ` itself.
+///
+/// `q` has length `model.nq()`, `v` and `a` length `model.nv()`. The results are stored in
+/// `data` and borrowed in the returned [`RneaDerivatives`]. O(n·depth); allocates nothing.
+///
+/// # Errors
+/// [`DynamicsError::DimensionMismatch`] or [`DynamicsError::NonFinite`] for a bad `q`, `v` or
+/// `a`; [`DynamicsError::DataMismatch`] when `data` belongs to another model.
+///
+/// # Examples
+/// ```
+/// use kinetree_dynamics::{rnea_derivatives, DerivativesData};
+/// use kinetree_dynamics::model::{Model, RootJoint};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// // A 1 kg point mass on a massless 0.5 m rod hinged about y: g(θ) = -m·g·l·cos θ.
+/// let urdf = r#"<robot name="pendulum"><link name="base"/>
+///   <link name="bob"><inertial><origin xyz="0.5 0 0"/><mass value="1"/>
+///     <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+///   <joint name="hinge" type="continuous"><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/></joint>
+/// </robot>"#;
+/// let model = Model::from_urdf_str(urdf, RootJoint::Fixed)?;
+/// let mut data = DerivativesData::new(&model);
+/// let d = rnea_derivatives(&model, &mut data, &[0.3], &[0.0], &[0.0])?;
+/// // ∂τ/∂θ = m·g·l·sin θ, and ∂τ/∂a is the inertia m·l².
+/// assert!((d.dtau_dq[0] - 9.81 * 0.5 * 0.3_f64.sin()).abs() < 1e-12);
+/// assert!((d.dtau_da[0] - 0.25).abs() < 1e-12);
+/// # Ok(())
+/// # }
+/// ```
+pub fn rnea_derivatives<'d>(
+    model: &Model,
+    data: &'d mut DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> Result<RneaDerivatives<'d>, DynamicsError> {
+    check_inputs(model, &data.dynamics, q, Some(v), Some(a))?;
+    let mut dq = core::mem::take(&mut data.dtau_dq);
+    sweep::<true>(model, data, q, v, a, None, &mut dq);
+    data.dtau_dq = dq;
+    Ok(data.rnea_result())
+}
+
+/// As [`rnea_derivatives`], with wrenches applied by the environment (see [`ExternalForces`]):
+/// the derivatives of `τ = rnea(q, v, a) - Σ Jᵀ·f`. A wrench given in
+/// [`ReferenceFrame::Local`] turns with its link; one given in [`ReferenceFrame::World`] stays
+/// fixed in the world; one in [`ReferenceFrame::LocalWorldAligned`] keeps its world direction
+/// and moves with its point of application.
+///
+/// # Errors
+/// As [`rnea_derivatives`]; [`DynamicsError::DataMismatch`] when `fext` belongs to another
+/// model.
+pub fn rnea_derivatives_with_external_forces<'d>(
+    model: &Model,
+    data: &'d mut DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    fext: &ExternalForces,
+) -> Result<RneaDerivatives<'d>, DynamicsError> {
+    check_inputs(model, &data.dynamics, q, Some(v), Some(a))?;
+    fext.check_model(model)?;
+    let mut dq = core::mem::take(&mut data.dtau_dq);
+    sweep::<true>(model, data, q, v, a, Some(fext), &mut dq);
+    data.dtau_dq = dq;
+    Ok(data.rnea_result())
+}
+
+/// The derivative `∂g/∂q` of the generalized gravity `g(q)` (`nv x nv`, row-major, tangent
+/// space), stored in `data` and returned. Allocates nothing.
+///
+/// # Errors
+/// As [`rnea_derivatives`], for `q`.
+pub fn generalized_gravity_derivatives<'d>(
+    model: &Model,
+    data: &'d mut DerivativesData,
+    q: &[f64],
+) -> Result<&'d [f64], DynamicsError> {
+    check_inputs(model, &data.dynamics, q, None, None)?;
+    let mut dq = core::mem::take(&mut data.dg_dq);
+    let zeros = core::mem::take(&mut data.zeros);
+    sweep::<false>(model, data, q, &zeros, &zeros, None, &mut dq);
+    data.zeros = zeros;
+    data.dg_dq = dq;
+    Ok(&data.dg_dq)
+}
+
+/// `Bᵀ·s` for the inertia-variation operator `B = [[0, -2[p]×], [0, d]]` of a subtree with
+/// linear momentum `p`.
+#[inline(always)]
+fn variation_transpose(p: DVec3, d: &DMat3, s: &Motion) -> Force {
+    Force::new(
+        DVec3::ZERO,
+        2.0 * p.cross(s.linear) + d.transpose() * s.angular,
+    )
+}
+
+/// `B·w` for the same operator.
+#[inline(always)]
+fn variation_mul(p: DVec3, d: &DMat3, w: &Motion) -> Force {
+    Force::new(-2.0 * p.cross(w.angular), *d * w.angular)
+}
+
+/// The angular-angular block of the inertia variation of a body with world inertia `y` moving
+/// with twist `v` (momentum `h = y·v`): the map `w ↦ v ×* (Y·w) - Y·(v × w) + w ×* h` is
+/// `[[0, -2[h_lin]×], [0, d]]` with this `d`.
+#[inline(always)]
+fn variation_block(y: &WorldInertia, v: &Motion, h: &Force) -> DMat3 {
+    let (vl, vw) = (skew(v.linear), skew(v.angular));
+    let hx = skew(y.h);
+    vw * y.i - y.i * vw - (vl * hx + hx * vl) - skew(h.angular)
+}
+
+/// The sweeps. With `FULL`, `∂τ/∂v` and `∂τ/∂a` are written too (else only `∂τ/∂q`, into `dq`).
+pub(super) fn sweep<const FULL: bool>(
+    model: &Model,
+    data: &mut DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    fext: Option<&ExternalForces>,
+    dq: &mut [f64],
+) {
+    let nv = data.nv;
+    let bodies = model.bodies();
+    let nb = bodies.len();
+    let dynamics = &data.dynamics;
+    let joint_models = dynamics.kinematics.joint_models();
+    let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
+    // Forward: placements, velocities, accelerations, forces and the per-column derivatives of
+    // velocity and acceleration that do not come from the rigid motion of the subtree.
+    for i in 1..nb {
+        let b = &bodies[i];
+        let jm = &joint_models[i];
+        let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        let p = b.parent;
+        let (omi, vp, ap) = if p == 0 {
+            (x, Motion::ZERO, a0)
+        } else {
+            (
+                data.world_from_body[p] * x,
+                data.velocity[p],
+                data.acceleration[p],
+            )
+        };
+        data.world_from_body[i] = omi;
+        let mut vj = Motion::ZERO;
+        let mut aj = Motion::ZERO;
+        for k in 0..b.nv {
+            let d = b.idx_v + k;
+            let s = omi.act_motion(&jm.subspace_column(k));
+            data.s[d] = s;
+            vj += s * v[d];
+            aj += s * a[d];
+            let dv = vp.cross_motion(&s);
+            data.dv_dq[d] = dv;
+            data.da_dq[d] = ap.cross_motion(&s) + vp.cross_motion(&dv);
+        }
+        let vi = vp + vj;
+        let ai = ap + aj + vi.cross_motion(&vj);
+        for d in b.idx_v..b.idx_v + b.nv {
+            data.da_dv[d] = vi.cross_motion(&data.s[d]) + data.dv_dq[d];
+        }
+        let inertia = b.inertia.transformed(&omi);
+        let c = inertia.com;
+        let y = WorldInertia {
+            m: inertia.mass,
+            h: c * inertia.mass,
+            i: inertia.rotational.to_mat3()
+                + (DMat3::from_diagonal(DVec3::splat(c.length_squared()))
+                    - DMat3::from_cols(c * c.x, c * c.y, c * c.z))
+                    * inertia.mass,
+        };
+        let h = y.mul(&vi);
+        data.velocity[i] = vi;
+        data.acceleration[i] = ai;
+        data.force[i] = y.mul(&ai) + vi.cross_force(&h);
+        data.momentum[i] = h.linear;
+        data.variation[i] = variation_block(&y, &vi, &h);
+        data.composite[i] = y;
+        data.external[i] = Blocks::ZERO;
+    }
+    let mut has_external = false;
+    if let Some(fext) = fext {
+        let force = &mut data.force;
+        let external = &mut data.external;
+        fext.for_each_world_with_point(&data.world_from_body, |body, f, reference, point| {
+            force[body] -= f;
+            // The part of the wrench's derivative that the rigid motion of the body does not
+            // explain, negated (the wrench is subtracted).
+            let e = match reference {
+                ReferenceFrame::Local => return,
+                // Fixed in the world: -(s ×* f) is missing.
+                ReferenceFrame::World => Blocks {
+                    b: -skew(f.linear),
+                    c: -skew(f.linear),
+                    d: -skew(f.angular),
+                },
+                // Fixed direction, moving point: the force -(ω × F) at the point is missing.
+                ReferenceFrame::LocalWorldAligned => {
+                    let fx = skew(f.linear);
+                    let torque = f.angular - point.cross(f.linear);
+                    Blocks {
+                        b: -fx,
+                        c: DMat3::ZERO,
+                        d: -skew(point) * fx - skew(torque),
+                    }
+                }
+            };
+            external[body].add_assign(&e);
+            has_external = true;
+        });
+    }
+    dq.fill(0.0);
+    if FULL {
+        data.dtau_dv.fill(0.0);
+        data.dtau_da.fill(0.0);
+    }
+    // Backward: composite quantities and the matrix rows.
+    for i in (1..nb).rev() {
+        let b = &bodies[i];
+        let (f, y, pm, dm, e) = (
+            data.force[i],
+            data.composite[i],
+            data.momentum[i],
+            data.variation[i],
+            data.external[i],
+        );
+        let r0 = b.idx_v;
+        let r1 = r0 + b.nv;
+        let c1 = r0 + data.nv_subtree[i];
+        for d in r0..r1 {
+            let s = data.s[d];
+            data.tau[d] = s.dot(&f);
+            let mut fq = y.mul(&data.da_dq[d]) + variation_mul(pm, &dm, &data.dv_dq[d]);
+            if has_external {
+                fq += e.mul(&s);
+            }
+            data.df_dq[d] = fq;
+            if FULL {
+                data.df_da[d] = y.mul(&s);
+                data.df_dv[d] = y.mul(&data.da_dv[d]) + variation_mul(pm, &dm, &s);
+            }
+        }
+        // Rows of this joint, columns of its subtree (itself included).
+        for r in r0..r1 {
+            let s = data.s[r];
+            let row = r * nv;
+            for c in r0..c1 {
+                dq[row + c] = s.dot(&data.df_dq[c]);
+            }
+            if FULL {
+                for c in r0..c1 {
+                    data.dtau_dv[row + c] = s.dot(&data.df_dv[c]);
+                    data.dtau_da[row + c] = s.dot(&data.df_da[c]);
+                }
+            }
+        }
+        for d in r0..r1 {
+            data.df_dq[d] += data.s[d].cross_force(&f);
+        }
+        // Rows of this joint, columns of its strict ancestors.
+        let first_ancestor = if b.nv > 0 {
+            data.dynamics.dof_parent[r0]
+        } else {
+            NO_PARENT
+        };
+        if first_ancestor != NO_PARENT {
+            for r in r0..r1 {
+                let s = data.s[r];
+                let ys = y.mul(&s);
+                let bs = variation_transpose(pm, &dm, &s);
+                let es = if has_external {
+                    e.mul_transpose(&s)
+                } else {
+                    Force::ZERO
+                };
+                let row = r * nv;
+                let mut j = first_ancestor;
+                while j != NO_PARENT {
+                    let sj = &data.s[j];
+                    let mut x = ys.dot(&data.da_dq[j]) + bs.dot(&data.dv_dq[j]);
+                    if has_external {
+                        x += es.dot(sj);
+                    }
+                    dq[row + j] = x;
+                    if FULL {
+                        data.dtau_dv[row + j] = ys.dot(&data.da_dv[j]) + bs.dot(sj);
+                        data.dtau_da[row + j] = ys.dot(sj);
+                    }
+                    j = data.dynamics.dof_parent[j];
+                }
+            }
+        }
+        let p = b.parent;
+        if p != 0 {
+            data.force[p] += f;
+            data.composite[p].add_assign(&y);
+            data.momentum[p] += pm;
+            data.variation[p] += dm;
+            if has_external {
+                data.external[p].add_assign(&e);
+            }
+        }
+    }
+    let dynamics = &data.dynamics;
+    if FULL && dynamics.has_joint_terms {
+        for k in 0..nv {
+            data.tau[k] += dynamics.armature[k] * a[k]
+                + dynamics.damping[k] * v[k]
+                + dynamics.friction[k] * sign(v[k]);
+            data.dtau_da[k * nv + k] += dynamics.armature[k];
+            // Friction's sign(v) contributes nothing (zero derivative, also at v = 0).
+            data.dtau_dv[k * nv + k] += dynamics.damping[k];
+        }
+    }
+}
