@@ -4,8 +4,9 @@
 //! gravity and external forces. Inverse dynamics ([`rnea`], [`nonlinear_effects`],
 //! [`generalized_gravity`]), the joint-space mass matrix ([`crba`]) and its tree-sparse
 //! factorization ([`factorize_mass_matrix`], [`solve_mass_matrix`], [`mass_matrix_inverse`]),
-//! forward dynamics ([`aba`]), energies, centre of mass and centroidal momentum, and a
-//! fixed-step integrator ([`step`]). It sits on `kinetree-kinematics` (re-exported as
+//! forward dynamics ([`aba`]), energies, centre of mass and centroidal momentum, a
+//! fixed-step integrator ([`step`]), and the analytic [`derivatives`] of inverse dynamics, gravity
+//! and forward dynamics ([`rnea_derivatives`], [`aba_derivatives`]). It sits on `kinetree-kinematics` (re-exported as
 //! [`kinematics`], with [`model`] and [`spatial`] below it).
 //!
 //! Algorithms are plain functions over `(&Model, &mut DynamicsData, inputs)` that return a borrow
