@@ -35,9 +35,10 @@ pub struct BatchOptions {
     pub jacobians: Vec<String>,
     /// Skip the dynamics quantities even when the inputs allow them.
     pub no_dynamics: bool,
-    /// Leave the joints' damping, friction and armature out of the dynamics, as Pinocchio (and
-    /// its reference data) does; by default they come from the model.
-    pub ignore_joint_dynamics: bool,
+    /// Add the joints' damping, friction and armature from the model to the dynamics
+    /// ([`JointTerms::FromModel`](crate::dynamics::JointTerms::FromModel)). Off by default: the
+    /// rigid-body quantities, as Pinocchio (and its reference data) computes them.
+    pub joint_dynamics: bool,
     /// When set, every sample gets `collision`: one `{"link_a", "link_b", "distance"}` per
     /// candidate link pair, the minimum signed distance over their shapes (positive separation,
     /// negative penetration), built with these options.
@@ -188,10 +189,10 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
     #[cfg(feature = "dynamics")]
     let mut dynamics_data = crate::dynamics::DynamicsData::with_joint_terms(
         model,
-        if options.ignore_joint_dynamics {
-            crate::dynamics::JointTerms::Ignored
-        } else {
+        if options.joint_dynamics {
             crate::dynamics::JointTerms::FromModel
+        } else {
+            crate::dynamics::JointTerms::Ignored
         },
     );
     let mut out = Vec::with_capacity(samples.len());

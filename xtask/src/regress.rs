@@ -125,7 +125,7 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
         jacobians: jacobian_links.clone(),
         no_dynamics: false,
         // The reference ignores URDF <dynamics> damping and friction, as Pinocchio does.
-        ignore_joint_dynamics: true,
+        joint_dynamics: false,
         // Collision is compared where the reference has it (primitive geometry, no meshes).
         collision: reference["samples"][0]["collision"]
             .is_array()

@@ -314,7 +314,166 @@ fn compute_takes_every_reference_file_straight_in() {
             }
         }
         assert_eq!(ours["jacobians"][link].as_array().unwrap().len(), 6);
+        // Without any flag the dynamics are Pinocchio's (every reference URDF has <dynamics>
+        // damping or friction, which Pinocchio leaves out), for every sample.
+        // Our v index of each of Pinocchio's (the joint orders may differ).
+        let mut ours_of = vec![0; samples[0]["rnea"].as_array().unwrap().len()];
+        for j in reference["joints"].as_array().unwrap() {
+            let mine = result["model"]["joints"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|m| m["name"] == j["name"])
+                .unwrap();
+            for k in 0..j["nv"].as_u64().unwrap() as usize {
+                ours_of[j["idx_v"].as_u64().unwrap() as usize + k] =
+                    mine["idx_v"].as_u64().unwrap() as usize + k;
+            }
+        }
+        for (ours, theirs) in samples.iter().zip(reference["samples"].as_array().unwrap()) {
+            let m = &ours["mass_matrix"];
+            let permuted: Vec<Vec<f64>> = ours_of
+                .iter()
+                .map(|&r| ours_of.iter().map(|&c| m[r][c].as_f64().unwrap()).collect())
+                .collect();
+            let d = max_difference(&serde_json::json!(permuted), &theirs["mass_matrix"]);
+            assert!(
+                d <= 1e-9 * (1.0 + max_abs(&theirs["mass_matrix"])),
+                "{robot}: M"
+            );
+            for key in ["rnea", "nle", "gravity_torque", "aba"] {
+                let scale = 1.0 + max_abs(&theirs[key]);
+                let permuted: Vec<f64> = ours_of
+                    .iter()
+                    .map(|&k| ours[key][k].as_f64().unwrap())
+                    .collect();
+                let d = max_difference(&serde_json::json!(permuted), &theirs[key]);
+                let tol = if key == "aba" {
+                    1e-9 * theirs["mass_matrix_cond"].as_f64().unwrap()
+                } else {
+                    1e-9
+                };
+                assert!(d <= tol * scale, "{robot}: {key} differs by {d:e}");
+            }
+        }
     }
+}
+
+/// Every number of a JSON value (nested arrays flattened).
+fn flat(value: &serde_json::Value) -> Vec<f64> {
+    match value {
+        serde_json::Value::Array(a) => a.iter().flat_map(flat).collect(),
+        v => vec![v.as_f64().unwrap_or(f64::NAN)],
+    }
+}
+
+fn max_abs(value: &serde_json::Value) -> f64 {
+    flat(value).iter().fold(0.0, |m, x| m.max(x.abs()))
+}
+
+/// The largest difference of two equally shaped JSON arrays (NaN when shapes differ).
+fn max_difference(a: &serde_json::Value, b: &serde_json::Value) -> f64 {
+    let (a, b) = (flat(a), flat(b));
+    if a.len() != b.len() {
+        return f64::NAN;
+    }
+    a.iter().zip(&b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
+}
+
+#[test]
+fn joint_dynamics_are_opt_in_for_compute_and_dynamics() {
+    // A damped pendulum (d = 2 N·m·s/rad, μ = 0.5 N·m) about y, its 1 kg bob 0.5 m along x. At rest
+    // gravity needs τ = -4.905 N·m; at v = 1 rad/s the joint terms add d·v + μ = 2.5 N·m.
+    let dir = scratch("joint-dynamics");
+    let urdf = dir.join("pendulum.urdf");
+    std::fs::write(&urdf, r#"<robot name="p"><link name="base"/>
+      <link name="bob"><inertial><origin xyz="0.5 0 0"/><mass value="1"/>
+        <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+      <joint name="hinge" type="continuous"><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/>
+        <dynamics damping="2" friction="0.5"/></joint>
+    </robot>"#).unwrap();
+    let tau = |extra: &[&str]| -> f64 {
+        let mut args = vec![
+            "dynamics",
+            urdf.to_str().unwrap(),
+            "--v",
+            "hinge=1",
+            "--a",
+            "hinge=0",
+        ];
+        args.extend(extra);
+        let o = kinetree(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = format!("\n{}", stdout(&o));
+        row(section(&text, "tau"), "hinge")[1].parse().unwrap()
+    };
+    assert!((tau(&[]) + 4.905).abs() < 1e-9);
+    assert!((tau(&["--ignore-joint-dynamics"]) + 4.905).abs() < 1e-9);
+    assert!((tau(&["--joint-dynamics"]) + 4.905 - 2.5).abs() < 1e-9);
+    let states = dir.join("states.json");
+    std::fs::write(
+        &states,
+        r#"{"samples": [{"q": {"hinge": 0}, "v": {"hinge": 1}, "a": {"hinge": 0}}]}"#,
+    )
+    .unwrap();
+    let rnea = |extra: &[&str]| -> f64 {
+        let mut args = vec![
+            "compute",
+            urdf.to_str().unwrap(),
+            "--states",
+            states.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let o = kinetree(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        out["samples"][0]["rnea"][0].as_f64().unwrap()
+    };
+    assert!((rnea(&[]) + 4.905).abs() < 1e-9);
+    assert!((rnea(&["--joint-dynamics"]) + 4.905 - 2.5).abs() < 1e-9);
+}
+
+#[test]
+fn simulate_uses_joint_dynamics_by_default_and_says_so() {
+    // The reference double pendulum has joint damping: by default a simulation loses energy and
+    // prints that the joint terms are on; --no-joint-dynamics conserves it and says they are off.
+    let urdf = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/reference/urdf/double_pendulum.urdf");
+    let run = |extra: &[&str]| -> (String, f64) {
+        let mut args = vec![
+            "simulate",
+            urdf.to_str().unwrap(),
+            "--q",
+            "joint1=0.3",
+            "--v",
+            "joint1=2",
+            "--duration",
+            "0.5",
+        ];
+        args.extend(extra);
+        let o = kinetree(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = stdout(&o);
+        let change: f64 = text
+            .split("(change ")
+            .nth(1)
+            .and_then(|r| r.split(" J").next())
+            .and_then(|x| x.trim().parse().ok())
+            .unwrap_or_else(|| panic!("no energy line in {text}"));
+        (text, change)
+    };
+    let (text, change) = run(&[]);
+    assert!(
+        text.contains("joint damping, friction and armature: on"),
+        "{text}"
+    );
+    assert!(change < -1e-6, "{text}");
+    let (text, change) = run(&["--no-joint-dynamics"]);
+    assert!(
+        text.contains("joint damping, friction and armature: off"),
+        "{text}"
+    );
+    assert!(change.abs() < 1e-6, "{text}");
 }
 
 #[test]
@@ -421,7 +580,7 @@ fn simulate_conserves_energy_and_writes_a_plot() {
         "1",
         "--dt",
         "1e-3",
-        "--ignore-joint-dynamics",
+        "--no-joint-dynamics",
         "--plot",
         plot.to_str().unwrap(),
     ]);

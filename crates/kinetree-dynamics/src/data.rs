@@ -14,8 +14,14 @@ pub(crate) const NO_PARENT: usize = usize::MAX;
 /// Whether the joints' damping, friction and armature ([`JointDynamics`]) enter the equations of
 /// motion.
 ///
-/// With [`JointTerms::FromModel`] (the default) every algorithm uses, per degree of freedom of a
-/// joint, the joint's `armature` `r`, `damping` `d` and `friction` `μ`:
+/// By default ([`JointTerms::Ignored`], what [`DynamicsData::new`] uses) every algorithm computes
+/// the textbook rigid-body quantities, as Pinocchio, RBDL and Featherstone's book mean by RNEA,
+/// CRBA and ABA: `M(q)·q̈ + C(q, q̇)·q̇ + g(q) = τ + Jᵀ·f_ext`. They are smooth in `(q, q̇)`, and
+/// they agree with the Pinocchio reference data.
+///
+/// With [`JointTerms::FromModel`] (opt-in, [`DynamicsData::with_joint_terms`]) every algorithm
+/// also uses, per degree of freedom of a joint, the joint's `armature` `r`, `damping` `d` and
+/// `friction` `μ`:
 ///
 /// `(M(q) + diag(r))·q̈ + C(q, q̇)·q̇ + g(q) + d·q̇ + μ·sign(q̇) = τ + Jᵀ·f_ext`
 ///
@@ -27,18 +33,19 @@ pub(crate) const NO_PARENT: usize = usize::MAX;
 ///   [`aba`](crate::aba) subtracts it from the applied torque;
 /// - friction is Coulomb (sliding) friction `-μ·sign(q̇)` with `sign(0) = 0`, treated like damping.
 ///   Static friction (sticking at `q̇ = 0`) is not modelled, and the term is discontinuous at
-///   `q̇ = 0`: a simulation with friction chatters around rest unless the time step is small.
+///   `q̇ = 0` (so derivatives of the dynamics do not exist there): a simulation with friction
+///   chatters around rest unless the time step is small.
 ///
-/// URDF files give damping and friction in `<dynamics>`; without that element they are zero.
-/// Pinocchio (and the reference data) ignores them: compare with [`JointTerms::Ignored`].
+/// URDF files give damping and friction in `<dynamics>`; without that element they are zero. A
+/// simulation of the real machine wants them (`kinetree simulate` turns them on by default).
 ///
 /// [`JointDynamics`]: kinetree_kinematics::model::JointDynamics
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum JointTerms {
-    /// Use each joint's damping, friction and armature from the model.
-    #[default]
+    /// Use each joint's damping, friction and armature from the model (opt-in).
     FromModel,
-    /// Ignore them (rigid-body dynamics only, as Pinocchio's algorithms).
+    /// Ignore them: rigid-body dynamics only, as Pinocchio's algorithms (the default).
+    #[default]
     Ignored,
 }
 
@@ -117,11 +124,12 @@ pub struct DynamicsData {
 }
 
 impl DynamicsData {
-    /// Allocates every buffer for `model`, with the joints' damping, friction and armature taken
-    /// from the model ([`JointTerms::FromModel`]).
+    /// Allocates every buffer for `model`, for the rigid-body dynamics: the joints' damping,
+    /// friction and armature are left out ([`JointTerms::Ignored`]); opt in with
+    /// [`DynamicsData::with_joint_terms`] and [`JointTerms::FromModel`].
     #[must_use]
     pub fn new(model: &Model) -> Self {
-        Self::with_joint_terms(model, JointTerms::FromModel)
+        Self::with_joint_terms(model, JointTerms::Ignored)
     }
 
     /// Allocates every buffer for `model`, choosing whether the joints' damping, friction and

@@ -45,9 +45,10 @@
 //! - Spatial vectors are `[linear; angular]` (forces `[force; torque]`); the [`exudyn`] helpers
 //!   use Featherstone's `[angular; linear]`, as Exudyn does.
 //! - Matrices (mass matrix and its inverse) are `nv x nv`, row-major, full and symmetric.
-//! - The equations of motion are `M(q)·q̈ + C(q, q̇)·q̇ + g(q) = τ + Σ Jᵀ·f_ext`, with the joints'
-//!   armature, damping and friction added as described in [`JointTerms`] (zero when the model
-//!   has none; [`JointTerms::Ignored`] turns them off, as in Pinocchio and the reference data).
+//! - The equations of motion are the rigid-body ones, `M(q)·q̈ + C(q, q̇)·q̇ + g(q) = τ + Σ Jᵀ·f_ext`,
+//!   as in Pinocchio, RBDL and the reference data. The joints' armature, damping and friction
+//!   from the model are opt-in: [`DynamicsData::with_joint_terms`] with
+//!   [`JointTerms::FromModel`] adds them as described in [`JointTerms`].
 //! - Mass properties count the moving bodies only: the links welded to the world (a fixed root
 //!   and its fixed attachments) are left out of [`total_mass`], the centre of mass and the
 //!   energies, as in Pinocchio.

@@ -23,8 +23,12 @@ pub(crate) struct Args {
     /// Links or frames whose LocalWorldAligned Jacobian (6 x nv) is reported, comma separated.
     #[arg(long, value_delimiter = ',')]
     jacobians: Vec<String>,
-    /// Leave joint damping, friction and armature out of the dynamics (as Pinocchio does).
+    /// Add the joints' damping, friction and armature (URDF `<dynamics>`) to the dynamics. By
+    /// default they are left out: the rigid-body quantities, as Pinocchio computes them.
     #[arg(long)]
+    joint_dynamics: bool,
+    /// The old spelling of the default (rigid-body dynamics), still accepted.
+    #[arg(long, hide = true, conflicts_with = "joint_dynamics")]
     ignore_joint_dynamics: bool,
     /// Add `collision` to each sample: the minimum signed distance of every candidate link pair.
     #[arg(long)]
@@ -50,7 +54,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let options = BatchOptions {
         jacobians: args.jacobians.clone(),
         no_dynamics: false,
-        ignore_joint_dynamics: args.ignore_joint_dynamics,
+        joint_dynamics: args.joint_dynamics,
         collision: args.collision.then(|| {
             let mut o = kinetree::collision::CollisionOptions::default();
             o.mesh_search_paths.clone_from(&args.mesh_paths);

@@ -27,8 +27,12 @@ pub(crate) struct Args {
     /// Joint torques `name=value,…`: prints the accelerations q̈ = ABA(q, v, τ).
     #[arg(long)]
     tau: Option<String>,
-    /// Leave joint damping, friction and armature out (as Pinocchio does).
+    /// Add the joints' damping, friction and armature (URDF `<dynamics>`) to the dynamics. By
+    /// default they are left out: the rigid-body quantities, as Pinocchio computes them.
     #[arg(long)]
+    joint_dynamics: bool,
+    /// The old spelling of the default (rigid-body dynamics), still accepted.
+    #[arg(long, hide = true, conflicts_with = "joint_dynamics")]
     ignore_joint_dynamics: bool,
 }
 
@@ -40,10 +44,10 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
     let q = super::parse_named(&model, args.q.as_deref(), false)?;
     let v = super::parse_named(&model, args.v.as_deref(), true)?;
-    let terms = if args.ignore_joint_dynamics {
-        JointTerms::Ignored
-    } else {
+    let terms = if args.joint_dynamics {
         JointTerms::FromModel
+    } else {
+        JointTerms::Ignored
     };
     let mut data = DynamicsData::with_joint_terms(&model, terms);
     let mut out = String::new();

@@ -33,9 +33,10 @@ pub(crate) struct Args {
     /// `rk4` (default) or `euler` (semi-implicit).
     #[arg(long, default_value = "rk4")]
     integrator: String,
-    /// Leave joint damping, friction and armature out.
-    #[arg(long)]
-    ignore_joint_dynamics: bool,
+    /// Leave the joints' damping, friction and armature out (rigid-body dynamics only). By
+    /// default a simulation uses them (URDF `<dynamics>`), as the real machine has them.
+    #[arg(long, alias = "ignore-joint-dynamics")]
+    no_joint_dynamics: bool,
     /// Write an SVG plot of joint positions and mechanical energy over time.
     #[arg(long)]
     plot: Option<PathBuf>,
@@ -56,7 +57,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let mut q = super::parse_named(&model, args.q.as_deref(), false)?;
     let mut v = super::parse_named(&model, args.v.as_deref(), true)?;
     let tau = super::parse_named(&model, args.tau.as_deref(), true)?;
-    let terms = if args.ignore_joint_dynamics {
+    let terms = if args.no_joint_dynamics {
         JointTerms::Ignored
     } else {
         JointTerms::FromModel
@@ -98,6 +99,14 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         integrator,
         elapsed.as_secs_f64(),
         elapsed.as_secs_f64() * 1e6 / steps.max(1) as f64
+    );
+    println!(
+        "{}",
+        if args.no_joint_dynamics {
+            "joint damping, friction and armature: off (--no-joint-dynamics)".to_string()
+        } else {
+            joint_terms_line(&model)
+        }
     );
     println!(
         "mechanical energy: {e0:.9} J -> {e1:.9} J (change {:.3e} J, relative {:.3e})",
@@ -147,4 +156,20 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         println!("plot written to {}", path.display());
     }
     Ok(())
+}
+
+/// The line saying that the joints' damping, friction and armature are on, and how many joints
+/// have any.
+fn joint_terms_line(model: &kinetree::model::Model) -> String {
+    let with = model
+        .moving_joints()
+        .filter(|&j| {
+            let d = model.joint(j).dynamics;
+            d.damping != 0.0 || d.friction != 0.0 || d.armature != 0.0
+        })
+        .count();
+    format!(
+        "joint damping, friction and armature: on, from the model ({with} of {} moving joints have some; --no-joint-dynamics for rigid-body dynamics only)",
+        model.moving_joints().count()
+    )
 }

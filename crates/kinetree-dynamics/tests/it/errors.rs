@@ -213,10 +213,14 @@ fn massless_model_has_no_com() {
     ));
 }
 
-/// Reference robots load with their URDF `<dynamics>`: the default data uses them (so results
-/// differ from Pinocchio's), the `Ignored` data does not.
+/// Reference robots load with their URDF `<dynamics>`: the default data leaves them out (the
+/// rigid-body quantities, as Pinocchio's), `FromModel` uses them.
 #[test]
-fn joint_terms_come_from_the_urdf() {
+fn joint_terms_are_opt_in() {
+    assert_eq!(
+        kinetree_dynamics::JointTerms::default(),
+        kinetree_dynamics::JointTerms::Ignored
+    );
     for (robot, reference, model) in robots() {
         let has_terms = model
             .joints()
@@ -228,11 +232,15 @@ fn joint_terms_come_from_the_urdf() {
             v_of(&model, sample, "v"),
             v_of(&model, sample, "a"),
         );
-        let mut with = DynamicsData::new(&model);
-        let mut without =
-            DynamicsData::with_joint_terms(&model, kinetree_dynamics::JointTerms::Ignored);
+        let mut default = DynamicsData::new(&model);
+        assert_eq!(
+            default.joint_terms(),
+            kinetree_dynamics::JointTerms::Ignored
+        );
+        let mut with =
+            DynamicsData::with_joint_terms(&model, kinetree_dynamics::JointTerms::FromModel);
         let t1 = rnea(&model, &mut with, &q, &v, &a).unwrap().to_vec();
-        let t2 = rnea(&model, &mut without, &q, &v, &a).unwrap().to_vec();
+        let t2 = rnea(&model, &mut default, &q, &v, &a).unwrap().to_vec();
         assert_eq!(t1 != t2, has_terms, "{robot}");
         with.set_joint_terms(&model, kinetree_dynamics::JointTerms::Ignored)
             .unwrap();

@@ -2,11 +2,11 @@
 //!
 //! Tolerance (issue 4): 1e-9 relative to the largest entry of each quantity; for `aba`, scaled by
 //! the sample's mass-matrix condition number. The reference ignores joint damping, friction and
-//! armature, and every reference URDF has `<dynamics>` tags, so the comparison runs with
-//! [`JointTerms::Ignored`].
+//! armature, and every reference URDF has `<dynamics>` tags: the comparison runs with the default
+//! [`DynamicsData::new`], which leaves them out too.
 
 use crate::common::{index_map, q_of, relative_error, robots, v_of, values};
-use kinetree_dynamics::{DynamicsData, JointTerms, compute_all_terms, total_mass};
+use kinetree_dynamics::{DynamicsData, compute_all_terms, total_mass};
 use serde_json::Value;
 
 const TOL: f64 = 1e-9;
@@ -42,7 +42,8 @@ fn dynamics_match_pinocchio() {
             reference["nv"].as_u64().unwrap() as usize,
             "{robot}"
         );
-        let mut data = DynamicsData::with_joint_terms(&model, JointTerms::Ignored);
+        // The default data: the rigid-body quantities, as Pinocchio's.
+        let mut data = DynamicsData::new(&model);
         let map = index_map(&model, &reference);
         let nv = model.nv();
         let mass = total_mass(&model);

@@ -62,7 +62,7 @@ fn double_pendulum_conserves_energy() {
 #[test]
 fn damped_double_pendulum_loses_energy() {
     let model = double_pendulum();
-    let mut data = DynamicsData::new(&model);
+    let mut data = DynamicsData::with_joint_terms(&model, JointTerms::FromModel);
     let (mut q, mut v) = (vec![1.2, -0.7], vec![0.5, 2.0]);
     let mut e = mechanical_energy(&model, &mut data, &q, &v).unwrap();
     let e0 = e;
