@@ -162,11 +162,11 @@ pub struct AbaDerivatives<'d> {
 }
 
 impl DerivativesData {
-    /// Allocates every buffer for `model`, with the joints' damping, friction and armature from
-    /// the model ([`JointTerms::FromModel`]).
+    /// Allocates every buffer for `model`, for the rigid-body dynamics (the joints' damping,
+    /// friction and armature left out, [`JointTerms::Ignored`]), as [`DynamicsData::new`].
     #[must_use]
     pub fn new(model: &Model) -> Self {
-        Self::with_joint_terms(model, JointTerms::FromModel)
+        Self::with_joint_terms(model, JointTerms::Ignored)
     }
 
     /// Allocates every buffer for `model`, choosing whether the joints' damping, friction and

@@ -109,7 +109,7 @@ fn derivatives_do_not_allocate() {
     };
     for (name, model) in all_models() {
         let (q, v, a) = random_state(&model, &mut rng(8));
-        let mut data = DerivativesData::new(&model);
+        let mut data = DerivativesData::with_joint_terms(&model, JointTerms::FromModel);
         let mut fext = ExternalForces::new(&model);
         let last = FrameId::Link(model.links().len() - 1);
         let tau = vec![0.1; model.nv()];

@@ -187,8 +187,8 @@ fn external_forces(model: &Model) -> ExternalForces {
 fn derivatives_match_finite_differences_on_every_joint_kind() {
     for (name, model) in all_models() {
         // Joint damping and friction on (every_kind has them); v away from 0 keeps sign(v) fixed.
-        let mut data = DerivativesData::new(&model);
-        let mut dynamics = DynamicsData::new(&model);
+        let mut data = DerivativesData::with_joint_terms(&model, JointTerms::FromModel);
+        let mut dynamics = DynamicsData::with_joint_terms(&model, JointTerms::FromModel);
         let fext = external_forces(&model);
         for seed in 0..2 {
             let (q, v, a) = random_state(&model, &mut rng(100 + seed));
@@ -301,7 +301,7 @@ fn derivative_identities() {
 fn damping_enters_dtau_dv_and_friction_has_zero_derivative_at_rest() {
     let model = every_kind(RootJoint::Fixed);
     let n = model.nv();
-    let mut on = DerivativesData::new(&model);
+    let mut on = DerivativesData::with_joint_terms(&model, JointTerms::FromModel);
     let mut off = DerivativesData::with_joint_terms(&model, JointTerms::Ignored);
     let (q, _, a) = random_state(&model, &mut rng(9));
     // v = 0: friction's sign(v) jumps there; its derivative is returned as zero.
