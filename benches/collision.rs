@@ -10,7 +10,7 @@ use kinetree::collision::kinematics::KinematicsData;
 use kinetree::collision::kinematics::configuration::random_configuration;
 use kinetree::collision::{
     CollisionData, CollisionModel, CollisionOptions, any_collision, compute_distances,
-    self_collisions,
+    compute_self_collisions,
 };
 use kinetree::model::{Model, RootJoint};
 use rand::SeedableRng;
@@ -51,7 +51,7 @@ fn collision(c: &mut Criterion) {
         b.iter(|| {
             data.compute_placements(&model, &cmodel, &mut kinematics, black_box(next()))
                 .expect("valid q");
-            self_collisions(&cmodel, &mut data)
+            compute_self_collisions(&cmodel, &mut data)
                 .expect("same model")
                 .len()
         })

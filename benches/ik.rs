@@ -41,7 +41,7 @@ fn cases(model: &Model, frames: &[FrameId], n: usize) -> Vec<(Vec<IkTarget>, Vec
             update_frame_placements(model, &mut data).expect("same model");
             let targets = frames
                 .iter()
-                .map(|f| IkTarget::new(*f, *data.world_placement(*f)))
+                .map(|f| IkTarget::new(*f, *data.world_from(*f).unwrap()))
                 .collect();
             let near: Vec<f64> = q.iter().map(|x| x + 0.02).collect();
             random_configuration(model, &mut rng, &mut q).expect("length nq");

@@ -19,7 +19,7 @@
 //! `null`, with an `errors` entry saying why; the rest of the sample is still computed.
 
 use crate::Error;
-use crate::kinematics::configuration::{neutral_configuration, set_joint_q, set_joint_v};
+use crate::kinematics::configuration::{Space, from_named};
 use crate::kinematics::spatial::Motion;
 use crate::kinematics::{
     FrameId, KinematicsData, KinematicsError, ReferenceFrame, compute_joint_jacobians,
@@ -88,29 +88,16 @@ fn state_vector(
     let map = map
         .as_object()
         .ok_or_else(|| Error::Batch(format!("'{key}' must be an object keyed by joint name")))?;
-    let mut out = if velocity {
-        vec![0.0; model.nv()]
+    let values = map
+        .iter()
+        .map(|(name, value)| Ok((name, numbers(name, value)?)))
+        .collect::<Result<Vec<_>, Error>>()?;
+    let space = if velocity {
+        Space::Velocity
     } else {
-        neutral_configuration(model)
+        Space::Configuration
     };
-    for (name, value) in map {
-        let x = numbers(name, value)?;
-        if velocity {
-            set_joint_v(model, &mut out, name, &x)?;
-        } else {
-            set_joint_q(model, &mut out, name, &x)?;
-        }
-    }
-    if let Some(missing) = model
-        .moving_joints()
-        .map(|j| &model.joint(j).name)
-        .find(|n| !map.contains_key(*n))
-    {
-        return Err(Error::Batch(format!(
-            "'{key}' has no value for joint '{missing}'"
-        )));
-    }
-    Ok(out)
+    Ok(from_named(model, space, values, true)?)
 }
 
 /// The named inputs of one request sample (`q` required; `v`, `a`, `tau` optional).
@@ -202,7 +189,7 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
         compute_joint_jacobians(model, &mut data, &input.q)?;
         let mut poses = Map::new();
         for (l, link) in model.links().iter().enumerate() {
-            let p = data.world_placement(FrameId::Link(l));
+            let p = data.world_from(FrameId::Link(l))?;
             poses.insert(
                 link.name.clone(),
                 json!({"translation": p.translation.to_array(), "rotation": p.rotation_rows()}),
@@ -226,8 +213,9 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
         }
         #[cfg(feature = "collision")]
         if let Some((cmodel, cdata)) = &mut collision {
-            let pairs =
-                crate::collision::link_pair_distances(model, cmodel, &mut data, cdata, &input.q)?;
+            let pairs = crate::collision::compute_link_pair_distances(
+                model, cmodel, &mut data, cdata, &input.q,
+            )?;
             let list: Vec<Value> = pairs
                 .into_iter()
                 .map(|(a, b, d)| json!({"link_a": a, "link_b": b, "distance": d}))
@@ -302,7 +290,7 @@ mod dynamics {
                 errors.push(json!({"quantity": "com", "error": e.to_string()}));
             }
         }
-        s.insert("total_mass".into(), json!(t.total_mass));
+        s.insert("total_mass".into(), json!(t.moving_mass));
         s.insert("potential_energy".into(), json!(t.potential_energy));
         if input.v.is_some() {
             s.insert("nle".into(), json!(t.nle));

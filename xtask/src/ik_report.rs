@@ -238,7 +238,7 @@ pub(crate) fn robot_report(
     let ee = FrameId::find(&model, ee_name)?;
     // The arm: the moving bodies on the path from the end effector to the root.
     let mut arm = Vec::new();
-    let mut b = ee.body(&model).0;
+    let mut b = ee.body(&model)?.0;
     while b != 0 {
         if model.bodies()[b].nv > 0 {
             arm.push(b);
@@ -266,7 +266,7 @@ pub(crate) fn robot_report(
     for _ in 0..n {
         let q = random_arm_q(&model, &arm, &mut rng)?;
         forward_kinematics(&model, &mut data, &q)?;
-        goals.push(*data.world_placement(ee));
+        goals.push(*data.world_from(ee)?);
     }
     let starts = goals
         .iter()
@@ -290,7 +290,7 @@ pub(crate) fn robot_report(
         iteration_counts.push(report.iterations);
         // Independent check of the answer.
         forward_kinematics(&model, &mut check, report.q)?;
-        let x = check.world_placement(ee);
+        let x = check.world_from(ee)?;
         let pos = (x.translation - goal.translation).length();
         let ori = log3(&(goal.rotation.transpose() * x.rotation)).length();
         let within = configuration::is_within_limits(&model, report.q, 0.0)?;

@@ -230,11 +230,15 @@ impl CollisionData {
     /// [`CollisionShape::body_from_shape`](crate::CollisionShape::body_from_shape)) after the
     /// last placement update.
     ///
-    /// # Panics
-    /// When `shape` is out of range, as slice indexing does.
-    #[must_use]
-    pub fn shape_pose(&self, shape: usize) -> &Pose {
-        &self.world_from_shape[shape]
+    /// # Errors
+    /// [`CollisionError::ShapeOutOfRange`] when `shape` is not a shape index of the model.
+    pub fn shape_pose(&self, shape: usize) -> Result<&Pose, CollisionError> {
+        self.world_from_shape
+            .get(shape)
+            .ok_or(CollisionError::ShapeOutOfRange {
+                index: shape,
+                count: self.world_from_shape.len(),
+            })
     }
 
     /// World poses of every shape, in shape order.
@@ -259,18 +263,18 @@ impl CollisionData {
     /// The per-link-pair minima of the last [`compute_distances`](crate::compute_distances), in
     /// the order of [`CollisionModel::link_pairs`].
     #[must_use]
-    pub fn link_pair_distances(&self) -> &[LinkPairDistance] {
+    pub fn compute_link_pair_distances(&self) -> &[LinkPairDistance] {
         &self.link_pair_distances
     }
 
-    /// The colliding pairs found by the last [`self_collisions`](crate::self_collisions).
+    /// The colliding pairs found by the last [`compute_self_collisions`](crate::compute_self_collisions).
     #[must_use]
     pub fn contacts(&self) -> &[Proximity] {
         &self.contacts
     }
 
     /// The shape–obstacle contacts found by the last
-    /// [`world_collisions`](crate::world_collisions).
+    /// [`compute_world_collisions`](crate::compute_world_collisions).
     #[must_use]
     pub fn world_contacts(&self) -> &[Proximity] {
         &self.world_contacts

@@ -73,6 +73,14 @@ pub enum CollisionError {
         /// The index given.
         id: usize,
     },
+    /// A shape index the collision model does not have.
+    #[error("shape {index} is out of range (the model has {count} shapes)")]
+    ShapeOutOfRange {
+        /// The index given.
+        index: usize,
+        /// The number of shapes.
+        count: usize,
+    },
     /// A pose or size given at run time contains NaN or an infinity.
     #[error("{what} is not finite")]
     NonFinite {

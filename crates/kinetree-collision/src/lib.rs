@@ -94,7 +94,7 @@ pub use model::{CollisionModel, CollisionPair, CollisionShape, LinkPair, Skipped
 pub use parry3d_f64 as parry;
 pub use pose::{pose_to_se3, se3_to_pose};
 pub use query::{
-    any_collision, compute_distances, compute_world_distances, link_pair_distances,
-    self_collisions, world_collisions,
+    any_collision, compute_distances, compute_link_pair_distances, compute_self_collisions,
+    compute_world_collisions, compute_world_distances,
 };
 pub use sampling::{DisableReason, PairProposal, PairSampling, propose_disabled_pairs};

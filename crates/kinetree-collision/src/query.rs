@@ -94,11 +94,11 @@ pub fn any_collision(
 /// negative [`Proximity::distance`] (0 for touching), the deepest points and the normal.
 ///
 /// Stored in [`CollisionData::contacts`] (sorted by pair) and returned. World obstacles are not
-/// included (see [`world_collisions`]).
+/// included (see [`compute_world_collisions`]).
 ///
 /// # Errors
 /// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
-pub fn self_collisions<'d>(
+pub fn compute_self_collisions<'d>(
     cmodel: &CollisionModel,
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
@@ -129,14 +129,14 @@ pub fn self_collisions<'d>(
     Ok(&data.contacts)
 }
 
-/// Every shape–obstacle pair that overlaps, with its contact (as in [`self_collisions`];
+/// Every shape–obstacle pair that overlaps, with its contact (as in [`compute_self_collisions`];
 /// [`Proximity::b`] is the obstacle's [`ObstacleId`](crate::ObstacleId) index).
 ///
 /// Stored in [`CollisionData::world_contacts`] (sorted by shape, then obstacle) and returned.
 ///
 /// # Errors
 /// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
-pub fn world_collisions<'d>(
+pub fn compute_world_collisions<'d>(
     cmodel: &CollisionModel,
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
@@ -173,7 +173,7 @@ pub fn world_collisions<'d>(
 /// and per link pair the minimum over its shape pairs.
 ///
 /// Stored in [`CollisionData::distances`] (pair order) and
-/// [`CollisionData::link_pair_distances`]; the first is returned.
+/// [`CollisionData`]`::link_pair_distances`; the first is returned.
 ///
 /// # Errors
 /// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
@@ -276,12 +276,12 @@ pub fn compute_world_distances<'d>(
 /// [`CollisionModel::link_pairs`]. This is the `collision` entry of `kinetree compute` and the
 /// quantity the reference regression compares.
 ///
-/// Allocates the returned vector; [`CollisionData::link_pair_distances`] is the
+/// Allocates the returned vector; [`CollisionData`]`::link_pair_distances` is the
 /// allocation-free form.
 ///
 /// # Errors
 /// As [`CollisionData::compute_placements`] and [`compute_distances`].
-pub fn link_pair_distances<'m>(
+pub fn compute_link_pair_distances<'m>(
     model: &'m Model,
     cmodel: &CollisionModel,
     kinematics: &mut KinematicsData,

@@ -4,7 +4,7 @@
 use crate::data::CollisionData;
 use crate::error::CollisionError;
 use crate::model::CollisionModel;
-use crate::query::self_collisions;
+use crate::query::compute_self_collisions;
 use crate::srdf::DisabledPair;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::{KinematicsData, configuration};
@@ -111,7 +111,7 @@ pub fn propose_disabled_pairs(
     let nlp = cmodel.link_pairs.len();
     let colliding = |data: &mut CollisionData, hit: &mut [bool]| -> Result<(), CollisionError> {
         hit.fill(false);
-        for c in self_collisions(cmodel, data)? {
+        for c in compute_self_collisions(cmodel, data)? {
             if let Some(k) = cmodel.pair_index(c.a, c.b) {
                 hit[cmodel.pairs[k].link_pair] = true;
             }

@@ -22,8 +22,8 @@ pub struct AllTerms {
     pub mass_matrix: Vec<f64>,
     /// [`aba`](crate::aba)`(q, v, tau)`, or why it is undefined (a singular mass matrix).
     pub aba: Result<Vec<f64>, DynamicsError>,
-    /// [`total_mass`](crate::total_mass) (kg).
-    pub total_mass: f64,
+    /// [`moving_mass`](crate::moving_mass) (kg).
+    pub moving_mass: f64,
     /// [`center_of_mass`](crate::center_of_mass)`(q)` (world frame), or why it is undefined.
     pub com: Result<DVec3, DynamicsError>,
     /// [`kinetic_energy`](crate::kinetic_energy)`(q, v)` (J).
@@ -71,7 +71,7 @@ pub fn compute_all_terms(
         gravity_torque,
         mass_matrix,
         aba,
-        total_mass: crate::total_mass(model),
+        moving_mass: crate::moving_mass(model),
         com,
         kinetic_energy,
         potential_energy,

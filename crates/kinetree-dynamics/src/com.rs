@@ -13,7 +13,8 @@ use kinetree_kinematics::{forward_kinematics, forward_kinematics_with_velocity};
 /// [`Model::total_mass`] counts every link.
 #[must_use]
 #[doc(alias = "compute_total_mass")]
-pub fn total_mass(model: &Model) -> f64 {
+#[doc(alias = "total_mass")]
+pub fn moving_mass(model: &Model) -> f64 {
     model.bodies().iter().skip(1).map(|b| b.inertia.mass).sum()
 }
 
@@ -46,7 +47,7 @@ fn com_from_moments(data: &mut DynamicsData) -> Result<DVec3, DynamicsError> {
 }
 
 /// The centre of mass of the moving bodies (world frame, m) at configuration `q`; see
-/// [`total_mass`] for which links count.
+/// [`moving_mass`] for which links count.
 ///
 /// Stored in [`DynamicsData::com`]. Runs forward kinematics on [`DynamicsData::kinematics`].
 /// Allocates nothing.

@@ -120,7 +120,7 @@ impl ExternalForces {
                 index,
             });
         }
-        let (body, body_from_frame) = frame.body(model);
+        let (body, body_from_frame) = frame.body(model)?;
         self.entries.push(Entry {
             body,
             body_from_frame,

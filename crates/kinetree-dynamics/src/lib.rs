@@ -50,7 +50,7 @@
 //!   from the model are opt-in: [`DynamicsData::with_joint_terms`] with
 //!   [`JointTerms::FromModel`] adds them as described in [`JointTerms`].
 //! - Mass properties count the moving bodies only: the links welded to the world (a fixed root
-//!   and its fixed attachments) are left out of [`total_mass`], the centre of mass and the
+//!   and its fixed attachments) are left out of [`moving_mass`], the centre of mass and the
 //!   energies, as in Pinocchio.
 //!
 //! ## Errors
@@ -80,7 +80,7 @@ pub use aba::{aba, aba_with_external_forces};
 pub use all_terms::{AllTerms, compute_all_terms};
 pub use com::{
     center_of_mass, center_of_mass_jacobian, center_of_mass_velocity, centroidal_momentum,
-    total_mass,
+    moving_mass,
 };
 pub use crba::crba;
 pub use data::{DynamicsData, JointTerms};

@@ -66,7 +66,7 @@ pub struct ChainStats {
 /// assert!((chain.joint_value("slide")? - 0.25).abs() < 1e-15);
 ///
 /// // The tool is 0.25 + 0.05 m along the upper arm's x axis, which now points along world y.
-/// let tool = chain.world_placement("tool")?;
+/// let tool = chain.world_from("tool")?;
 /// assert!((tool.translation - DVec3::new(0.0, 0.3, 0.1)).length() < 1e-12);
 /// let in_upper = chain.relative_transform("upper", "tool")?;
 /// assert!((in_upper.translation - DVec3::new(0.3, 0.0, 0.1)).length() < 1e-12);
@@ -304,29 +304,19 @@ impl Chain {
     /// [`KinematicsError::UnknownFrame`] when no link or frame has this name.
     #[doc(alias = "world_transform")]
     #[doc(alias = "get_world_transform")]
-    pub fn world_placement(&mut self, name: &str) -> Result<Se3, KinematicsError> {
+    pub fn world_from(&mut self, name: &str) -> Result<Se3, KinematicsError> {
         let id = FrameId::find(&self.model, name)?;
-        self.world_placement_of(id)
+        self.world_from_id(id)
     }
 
     /// The world placement of a link or named frame given by id.
     ///
     /// # Errors
-    /// [`KinematicsError::UnknownFrame`] when the index is out of range for this model.
-    pub fn world_placement_of(&mut self, frame: FrameId) -> Result<Se3, KinematicsError> {
-        let body = match frame {
-            FrameId::Link(l) if l < self.model.links().len() => self.model.link_body(l).0,
-            FrameId::Frame(f) if f < self.model.frames().len() => {
-                self.model.link_body(self.model.frames()[f].link).0
-            }
-            _ => {
-                return Err(KinematicsError::UnknownFrame {
-                    name: format!("{frame:?}"),
-                });
-            }
-        };
+    /// [`KinematicsError::FrameOutOfRange`] when the index is out of range for this model.
+    pub fn world_from_id(&mut self, frame: FrameId) -> Result<Se3, KinematicsError> {
+        let (body, _) = frame.body(&self.model)?;
         self.refresh(body);
-        Ok(*self.data.world_placement(frame))
+        Ok(*self.data.world_from(frame)?)
     }
 
     /// The pose of `b` in `a` (`a_from_b`), both links or named frames given by name.
@@ -335,8 +325,8 @@ impl Chain {
     /// [`KinematicsError::UnknownFrame`] naming the first unknown name.
     #[doc(alias = "get_relative_transform")]
     pub fn relative_transform(&mut self, a: &str, b: &str) -> Result<Se3, KinematicsError> {
-        let world_from_a = self.world_placement(a)?;
-        let world_from_b = self.world_placement(b)?;
+        let world_from_a = self.world_from(a)?;
+        let world_from_b = self.world_from(b)?;
         Ok(world_from_a.inv_mul(&world_from_b))
     }
 
@@ -351,14 +341,14 @@ impl Chain {
 
     /// The world placement of every link, indexed like [`Model::links`] (brought up to date
     /// first).
-    pub fn world_link_placements(&mut self) -> &[Se3] {
+    pub fn world_from_link(&mut self) -> &[Se3] {
         self.update();
         self.data.world_from_link()
     }
 
     /// The world placement of every named frame, indexed like [`Model::frames`] (brought up to
     /// date first).
-    pub fn world_frame_placements(&mut self) -> &[Se3] {
+    pub fn world_from_frame(&mut self) -> &[Se3] {
         self.update();
         self.data.world_from_frame()
     }
@@ -366,7 +356,7 @@ impl Chain {
     /// Every link's, then every named frame's, name and world placement (brought up to date
     /// first).
     #[doc(alias = "get_all_world_transforms")]
-    pub fn world_placements(&mut self) -> impl Iterator<Item = (&str, &Se3)> + '_ {
+    pub fn world_from_all(&mut self) -> impl Iterator<Item = (&str, &Se3)> + '_ {
         self.update();
         let links = self
             .model
@@ -689,13 +679,13 @@ mod tests {
         forward_kinematics(&model, &mut data, chain.q()).unwrap();
         update_frame_placements(&model, &mut data).unwrap();
         for (l, link) in model.links().iter().enumerate() {
-            let cached = chain.world_placement(&link.name).unwrap();
-            let full = data.world_placement(FrameId::Link(l));
+            let cached = chain.world_from(&link.name).unwrap();
+            let full = data.world_from(FrameId::Link(l)).unwrap();
             assert!(cached.abs_diff_eq(full, 1e-14, 1e-14), "link {}", link.name);
         }
         for (f, frame) in model.frames().iter().enumerate() {
-            let cached = chain.world_placement_of(FrameId::Frame(f)).unwrap();
-            let full = data.world_placement(FrameId::Frame(f));
+            let cached = chain.world_from_id(FrameId::Frame(f)).unwrap();
+            let full = data.world_from(FrameId::Frame(f)).unwrap();
             assert!(
                 cached.abs_diff_eq(full, 1e-14, 1e-14),
                 "frame {}",
@@ -725,7 +715,7 @@ mod tests {
         assert_eq!(chain.stats().joint_updates, 9);
         // Nothing is stale: queries are free.
         let before = chain.stats();
-        let _ = chain.world_placement("panda_hand_tcp").unwrap();
+        let _ = chain.world_from("panda_hand_tcp").unwrap();
         chain.update();
         assert_eq!(chain.stats(), before);
 
@@ -740,10 +730,10 @@ mod tests {
         // A single query is lazier still: the hand needs only the wrist body, not the fingers.
         let before = chain.stats();
         chain.set_joint_value("panda_joint7", -0.3).unwrap();
-        let _ = chain.world_placement("panda_hand").unwrap();
+        let _ = chain.world_from("panda_hand").unwrap();
         assert_eq!(chain.stats().body_updates - before.body_updates, 1);
         // The fingers follow when asked for.
-        let _ = chain.world_placement("panda_leftfinger").unwrap();
+        let _ = chain.world_from("panda_leftfinger").unwrap();
         assert_eq!(chain.stats().body_updates - before.body_updates, 2);
         assert_matches_full_fk(&mut chain);
 
@@ -779,7 +769,7 @@ mod tests {
                 let v = chain.joint_value(name).unwrap() + 0.1 * step as f64 / 40.0;
                 chain.set_joint_value(name, v).unwrap();
                 let other = &names[(step * 7) % names.len()];
-                let _ = chain.world_placement(&model.link(step % 11).name).unwrap();
+                let _ = chain.world_from(&model.link(step % 11).name).unwrap();
                 chain.set_joint_value(other, -v).unwrap();
             }
             assert_matches_full_fk(&mut chain);
@@ -944,7 +934,7 @@ mod tests {
                 let pose = &link["world_pose"];
                 let written =
                     Se3::from_xyz_rpy(triple(&pose["xyz"], length), triple(&pose["rpy"], angle));
-                let expected = chain.world_placement(name).unwrap();
+                let expected = chain.world_from(name).unwrap();
                 assert!(written.abs_diff_eq(&expected, 1e-9, 1e-12), "{name}");
             }
             for joint in doc["joints"].as_array().unwrap() {
@@ -994,12 +984,12 @@ mod tests {
         let mut chain = Chain::new(small());
         chain.set_joint_value("shoulder", 0.5).unwrap();
         chain.set_joint_value("slide", 0.2).unwrap();
-        let tool = chain.world_placement("tool").unwrap();
+        let tool = chain.world_from("tool").unwrap();
         let expected = Se3::from_rotation_z(0.5) * Se3::from_translation(glam::DVec3::X * 0.2);
         assert!(tool.abs_diff_eq(&expected, 1e-15, 1e-15));
         let rel = chain.relative_transform("upper", "tool").unwrap();
         assert!(rel.abs_diff_eq(&Se3::from_translation(glam::DVec3::X * 0.2), 1e-15, 1e-15));
-        let all: Vec<(&str, Se3)> = chain.world_placements().map(|(n, p)| (n, *p)).collect();
+        let all: Vec<(&str, Se3)> = chain.world_from_all().map(|(n, p)| (n, *p)).collect();
         assert_eq!(all.len(), 6);
         assert_eq!(all[5].0, "tool");
         assert!(all[5].1.abs_diff_eq(&expected, 1e-15, 1e-15));
@@ -1008,8 +998,8 @@ mod tests {
             Err(KinematicsError::UnknownFrame { name }) if name == "nowhere"
         ));
         assert!(matches!(
-            chain.world_placement_of(FrameId::Link(99)),
-            Err(KinematicsError::UnknownFrame { .. })
+            chain.world_from_id(FrameId::Link(99)),
+            Err(KinematicsError::FrameOutOfRange { index: 99, .. })
         ));
     }
 }

@@ -478,6 +478,97 @@ pub fn set_joint_v(
     Ok(())
 }
 
+/// Which vector named joint values ([`set_named`], [`from_named`]) go into.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Space {
+    /// A configuration `q` (`nq` entries, per-joint blocks as [`set_joint_q`]).
+    Configuration,
+    /// A velocity-space vector (`nv` entries: velocity, acceleration or effort, per-joint blocks
+    /// as [`set_joint_v`]).
+    Velocity,
+}
+
+impl Space {
+    /// `"q"` or `"v"`, as in error messages.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Configuration => "q",
+            Self::Velocity => "v",
+        }
+    }
+}
+
+/// Writes joint values keyed by joint name into `out` (a configuration or a velocity-space
+/// vector, per `space`); joints not named keep their value. Each value is the joint's whole block
+/// (one number for 1-DoF joints).
+///
+/// # Errors
+/// As [`set_joint_q`] / [`set_joint_v`] for the first name or value that is wrong.
+///
+/// # Examples
+/// ```
+/// use kinetree_kinematics::configuration::{Space, neutral_configuration, set_named};
+/// use kinetree_kinematics::model::samples;
+/// # fn main() -> Result<(), kinetree_kinematics::KinematicsError> {
+/// let model = samples::planar_2r(0.3, 0.2);
+/// let mut q = neutral_configuration(&model);
+/// let first = model.joint(model.moving_joints().next().unwrap_or(0)).name.clone();
+/// set_named(&model, Space::Configuration, &mut q, [(first.as_str(), [0.5])])?;
+/// assert_eq!(q, [0.5, 0.0]);
+/// # Ok(())
+/// # }
+/// ```
+pub fn set_named<N: AsRef<str>, V: AsRef<[f64]>>(
+    model: &Model,
+    space: Space,
+    out: &mut [f64],
+    values: impl IntoIterator<Item = (N, V)>,
+) -> Result<(), KinematicsError> {
+    for (name, value) in values {
+        match space {
+            Space::Configuration => set_joint_q(model, out, name.as_ref(), value.as_ref())?,
+            Space::Velocity => set_joint_v(model, out, name.as_ref(), value.as_ref())?,
+        }
+    }
+    Ok(())
+}
+
+/// A vector from joint values keyed by joint name: the neutral configuration (for
+/// [`Space::Configuration`]) or zero (for [`Space::Velocity`]) with the named blocks written as
+/// [`set_named`] does. With `every_joint`, each moving joint must be named.
+///
+/// # Errors
+/// As [`set_named`]; [`KinematicsError::MissingJointValue`] naming the first moving joint left
+/// out when `every_joint` is set.
+pub fn from_named<N: AsRef<str>, V: AsRef<[f64]>>(
+    model: &Model,
+    space: Space,
+    values: impl IntoIterator<Item = (N, V)>,
+    every_joint: bool,
+) -> Result<Vec<f64>, KinematicsError> {
+    let mut out = match space {
+        Space::Configuration => neutral_configuration(model),
+        Space::Velocity => vec![0.0; model.nv()],
+    };
+    let mut named = vec![false; model.joints().len()];
+    for (name, value) in values {
+        let name = name.as_ref();
+        set_named(model, space, &mut out, [(name, value)])?;
+        if let Some(j) = model.joint_index(name) {
+            named[j] = true;
+        }
+    }
+    let missing = model.moving_joints().find(|&j| !named[j]);
+    match missing {
+        Some(j) if every_joint => Err(KinematicsError::MissingJointValue {
+            joint: model.joint(j).name.clone(),
+            space: space.as_str(),
+        }),
+        _ => Ok(out),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -588,5 +679,48 @@ mod tests {
         let mut v = vec![0.0; model.nv()];
         set_joint_v(&model, &mut v, "j4", &[1.0, 2.0]).unwrap();
         assert_eq!(&v[3..5], &[1.0, 2.0]);
+    }
+
+    #[test]
+    fn named_values_fill_their_blocks() {
+        let model = every_kind();
+        let names: Vec<String> = model
+            .moving_joints()
+            .map(|j| model.joint(j).name.clone())
+            .collect();
+        // Every joint named: each block holds its values, in the model's order.
+        let mut q = vec![0.0; model.nq()];
+        random_configuration(&model, &mut rand::rngs::SmallRng::seed_from_u64(5), &mut q).unwrap();
+        let blocks: Vec<(&str, &[f64])> = model
+            .moving_joints()
+            .zip(&names)
+            .map(|(j, n)| (n.as_str(), &q[model.joint_q_range(j)]))
+            .collect();
+        assert_eq!(
+            from_named(&model, Space::Configuration, blocks.iter().copied(), true).unwrap(),
+            q
+        );
+        // One joint named: the others keep the neutral configuration (or zero velocity).
+        let j = model.moving_joints().nth(2).unwrap();
+        let partial = [(names[2].as_str(), [0.25])];
+        let mut expected = neutral_configuration(&model);
+        expected[model.joint_q_range(j)].copy_from_slice(&[0.25]);
+        assert_eq!(
+            from_named(&model, Space::Configuration, partial, false).unwrap(),
+            expected
+        );
+        let mut v = vec![1.0; model.nv()];
+        set_named(&model, Space::Velocity, &mut v, partial).unwrap();
+        assert_eq!(v[model.joint_v_range(j)], [0.25]);
+        assert_eq!(v.iter().filter(|&&x| x == 1.0).count(), model.nv() - 1);
+        // Leaving a joint out when every joint is required names the first one left out.
+        assert!(matches!(
+            from_named(&model, Space::Velocity, partial, true),
+            Err(KinematicsError::MissingJointValue { ref joint, space: "v" }) if *joint == names[0]
+        ));
+        assert!(matches!(
+            from_named(&model, Space::Configuration, [("nope", [0.0])], false),
+            Err(KinematicsError::UnknownJoint { .. })
+        ));
     }
 }

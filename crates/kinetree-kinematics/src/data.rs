@@ -29,25 +29,55 @@ impl FrameId {
             })
     }
 
+    /// Checks that this link or frame index exists in `model`.
+    ///
+    /// # Errors
+    /// [`KinematicsError::FrameOutOfRange`] when the index is not below the model's number of
+    /// links (or named frames).
+    pub fn check(self, model: &Model) -> Result<FrameId, KinematicsError> {
+        self.check_counts(model.links().len(), model.frames().len())
+    }
+
+    /// [`FrameId::check`] against given link and frame counts.
+    pub(crate) fn check_counts(
+        self,
+        links: usize,
+        frames: usize,
+    ) -> Result<FrameId, KinematicsError> {
+        let (what, index, count) = match self {
+            FrameId::Link(l) => ("link", l, links),
+            FrameId::Frame(f) => ("frame", f, frames),
+        };
+        if index < count {
+            Ok(self)
+        } else {
+            Err(KinematicsError::FrameOutOfRange { what, index, count })
+        }
+    }
+
     /// The body carrying this frame and the frame's pose in that body's frame.
-    #[must_use]
-    pub fn body(&self, model: &Model) -> (usize, Se3) {
-        match *self {
+    ///
+    /// # Errors
+    /// [`KinematicsError::FrameOutOfRange`] for an index `model` does not have.
+    pub fn body(&self, model: &Model) -> Result<(usize, Se3), KinematicsError> {
+        Ok(match self.check(model)? {
             FrameId::Link(l) => {
                 let (b, p) = model.link_body(l);
                 (b, *p)
             }
             FrameId::Frame(f) => model.frame_body(f),
-        }
+        })
     }
 
     /// The frame's name.
-    #[must_use]
-    pub fn name<'m>(&self, model: &'m Model) -> &'m str {
-        match *self {
+    ///
+    /// # Errors
+    /// [`KinematicsError::FrameOutOfRange`] for an index `model` does not have.
+    pub fn name<'m>(&self, model: &'m Model) -> Result<&'m str, KinematicsError> {
+        Ok(match self.check(model)? {
             FrameId::Link(l) => &model.link(l).name,
             FrameId::Frame(f) => &model.frames()[f].name,
-        }
+        })
     }
 }
 
@@ -186,15 +216,19 @@ impl KinematicsData {
         &self.world_from_frame
     }
 
-    /// World placement of a link or named frame (named frames need
+    /// World placement (`world_from_frame`) of a link or named frame (named frames need
     /// [`update_frame_placements`](crate::update_frame_placements) first).
+    ///
+    /// # Errors
+    /// [`KinematicsError::FrameOutOfRange`] for an index this data's model does not have.
     #[inline]
-    #[must_use]
-    pub fn world_placement(&self, frame: FrameId) -> &Se3 {
-        match frame {
-            FrameId::Link(l) => &self.world_from_link[l],
-            FrameId::Frame(f) => &self.world_from_frame[f],
-        }
+    pub fn world_from(&self, frame: FrameId) -> Result<&Se3, KinematicsError> {
+        Ok(
+            match frame.check_counts(self.world_from_link.len(), self.world_from_frame.len())? {
+                FrameId::Link(l) => &self.world_from_link[l],
+                FrameId::Frame(f) => &self.world_from_frame[f],
+            },
+        )
     }
 
     /// Spatial velocity of each body in its own frame (written when forward kinematics is given `v`).

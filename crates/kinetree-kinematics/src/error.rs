@@ -1,5 +1,6 @@
 //! The kinematics layer's error type.
 
+use core::fmt;
 use kinetree_model::ModelError;
 
 /// Everything that can go wrong in the kinematics layer.
@@ -47,6 +48,16 @@ pub enum KinematicsError {
         /// The name looked up.
         name: String,
     },
+    /// A link or frame index the model does not have.
+    #[error("{what} index {index} is out of range (the model has {count})")]
+    FrameOutOfRange {
+        /// `"link"` or `"frame"` (named frame).
+        what: &'static str,
+        /// The index given.
+        index: usize,
+        /// The number of links (for a link) or named frames (for a frame) of the model.
+        count: usize,
+    },
     /// No joint has this name.
     #[error("unknown joint '{name}'")]
     UnknownJoint {
@@ -60,6 +71,14 @@ pub enum KinematicsError {
         joint: String,
         /// Why.
         reason: String,
+    },
+    /// A vector given by joint name leaves out a moving joint that must be named.
+    #[error("{space} has no value for joint '{joint}'")]
+    MissingJointValue {
+        /// The joint left out.
+        joint: String,
+        /// `"q"` (configuration) or `"v"` (velocity-space vector).
+        space: &'static str,
     },
     /// No link (part) has this name.
     #[error("unknown link '{name}'")]
@@ -78,12 +97,12 @@ pub enum KinematicsError {
         expected: &'static str,
     },
     /// An actuation group is ill-defined (no actuators, duplicate names, a joint in two groups…).
-    #[error("actuation group '{group}': {reason}")]
+    #[error("actuation group '{group}': {problem}")]
     InvalidGroup {
         /// The group.
         group: String,
-        /// Why.
-        reason: String,
+        /// What is wrong with it.
+        problem: GroupProblem,
     },
     /// An actuation group's mapping wrote the wrong number of values.
     #[error(
@@ -93,7 +112,7 @@ pub enum KinematicsError {
         /// The group.
         group: String,
         /// Which mapping.
-        direction: crate::group::MappingDirection,
+        direction: MappingDirection,
         /// The number of values the other side has.
         expected: usize,
         /// The number written.
@@ -105,7 +124,7 @@ pub enum KinematicsError {
         /// The group.
         group: String,
         /// Which mapping.
-        direction: crate::group::MappingDirection,
+        direction: MappingDirection,
         /// The first offending output index.
         index: usize,
     },
@@ -139,6 +158,95 @@ pub enum KinematicsError {
         /// Why.
         reason: &'static str,
     },
+}
+
+/// Which of an actuation group's two mappings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MappingDirection {
+    /// Actuated coordinates → virtual joint coordinates
+    /// ([`Actuation::to_virtual`](crate::Actuation::to_virtual)).
+    ActuatedToVirtual,
+    /// Virtual joint coordinates → actuated coordinates
+    /// ([`Actuation::to_actuated`](crate::Actuation::to_actuated)).
+    VirtualToActuated,
+}
+
+impl fmt::Display for MappingDirection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::ActuatedToVirtual => "actuated → virtual",
+            Self::VirtualToActuated => "virtual → actuated",
+        })
+    }
+}
+
+/// What makes an actuation group ill-defined ([`KinematicsError::InvalidGroup`]).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum GroupProblem {
+    /// The group lists no actuated coordinates.
+    NoActuators,
+    /// An actuated coordinate is listed twice.
+    DuplicateActuator {
+        /// Its name.
+        actuator: String,
+    },
+    /// The group lists no joints.
+    NoJoints,
+    /// A joint is listed twice.
+    DuplicateJoint {
+        /// Its name.
+        joint: String,
+    },
+    /// The round-trip tolerance is negative or not finite.
+    InvalidTolerance {
+        /// The tolerance given.
+        tolerance: f64,
+    },
+    /// Two groups of an actuated chain have the same name.
+    DuplicateGroup,
+    /// The group was built for another model than the chain's.
+    OtherModel,
+    /// A joint of the group is already driven by an earlier group.
+    JointAlreadyDriven {
+        /// The joint.
+        joint: String,
+        /// The group that drives it first.
+        by: String,
+    },
+    /// An actuated coordinate name is used twice in an actuated chain (by two groups, or by a
+    /// group and a directly driven joint).
+    DuplicateCoordinate {
+        /// The name.
+        name: String,
+    },
+}
+
+impl fmt::Display for GroupProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NoActuators => f.write_str("no actuated coordinates"),
+            Self::DuplicateActuator { actuator } => {
+                write!(f, "actuator '{actuator}' is listed twice")
+            }
+            Self::NoJoints => f.write_str("no joints"),
+            Self::DuplicateJoint { joint } => write!(f, "joint '{joint}' is listed twice"),
+            Self::InvalidTolerance { tolerance } => {
+                write!(
+                    f,
+                    "tolerance {tolerance} is not a finite non-negative number"
+                )
+            }
+            Self::DuplicateGroup => f.write_str("two groups have this name"),
+            Self::OtherModel => f.write_str("it was built for another model"),
+            Self::JointAlreadyDriven { joint, by } => {
+                write!(f, "joint '{joint}' is already driven by group '{by}'")
+            }
+            Self::DuplicateCoordinate { name } => {
+                write!(f, "actuated coordinate name '{name}' is used twice")
+            }
+        }
+    }
 }
 
 /// Checks the length and finiteness of an input vector.

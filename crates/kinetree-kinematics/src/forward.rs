@@ -28,7 +28,7 @@ use kinetree_model::spatial::{Motion, Se3};
 /// let model = Model::from_urdf_str(urdf, RootJoint::Fixed)?;
 /// let mut data = KinematicsData::new(&model);
 /// forward_kinematics(&model, &mut data, &[std::f64::consts::FRAC_PI_2])?;
-/// let tip = data.world_placement(FrameId::find(&model, "tip")?);
+/// let tip = data.world_from(FrameId::find(&model, "tip")?)?;
 /// // The tip frame sits at x = 1, turned 90° about z: its x axis points along world y.
 /// assert!((tip.translation.x - 1.0).abs() < 1e-15);
 /// assert!((tip.rotation.x_axis.y - 1.0).abs() < 1e-15);
@@ -150,23 +150,37 @@ pub fn update_frame_placements(
 
 /// The pose of frame `b` in frame `a` (`a_from_b`) from the last forward kinematics (and
 /// [`update_frame_placements`] for named frames).
-#[must_use]
-pub fn relative_transform(data: &KinematicsData, a: FrameId, b: FrameId) -> Se3 {
-    data.world_placement(a).inv_mul(data.world_placement(b))
+///
+/// # Errors
+/// [`KinematicsError::FrameOutOfRange`] for an index the data's model does not have.
+pub fn relative_transform(
+    data: &KinematicsData,
+    a: FrameId,
+    b: FrameId,
+) -> Result<Se3, KinematicsError> {
+    Ok(data.world_from(a)?.inv_mul(data.world_from(b)?))
 }
 
 /// The spatial velocity of a link or frame from the last
 /// [`forward_kinematics_with_velocity`], in the given reference frame
 /// (see [`ReferenceFrame`](crate::ReferenceFrame)).
-#[must_use]
+///
+/// # Errors
+/// [`KinematicsError::FrameOutOfRange`] for an index `model` does not have,
+/// [`KinematicsError::DataMismatch`] when `data` belongs to another model.
 pub fn frame_velocity(
     model: &Model,
     data: &KinematicsData,
     frame: FrameId,
     reference: crate::ReferenceFrame,
-) -> Motion {
-    let (b, body_from_frame) = frame.body(model);
+) -> Result<Motion, KinematicsError> {
+    data.check_model(model)?;
+    let (b, body_from_frame) = frame.body(model)?;
     let local = body_from_frame.act_inv_motion(&data.body_velocity[b]);
     let world_from_frame = data.world_from_body[b] * body_from_frame;
-    crate::jacobian::change_reference(&world_from_frame, &local, reference)
+    Ok(crate::jacobian::change_reference(
+        &world_from_frame,
+        &local,
+        reference,
+    ))
 }

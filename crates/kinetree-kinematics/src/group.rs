@@ -4,7 +4,8 @@
 use crate::chain::Chain;
 use crate::configuration::wrap_angle;
 use crate::data::KinematicsData;
-use crate::error::{KinematicsError, check_vector};
+pub use crate::error::MappingDirection;
+use crate::error::{GroupProblem, KinematicsError, check_vector};
 use core::fmt;
 use core::ops::Range;
 use glam::DVec3;
@@ -14,24 +15,6 @@ use std::collections::HashMap;
 
 /// Default tolerance of the round-trip check of a group's mappings (see [`GroupSpec::tolerance`]).
 pub const ROUND_TRIP_TOLERANCE: f64 = 1e-9;
-
-/// Which of a group's two mappings.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum MappingDirection {
-    /// Actuated coordinates → virtual joint coordinates ([`Actuation::to_virtual`]).
-    ActuatedToVirtual,
-    /// Virtual joint coordinates → actuated coordinates ([`Actuation::to_actuated`]).
-    VirtualToActuated,
-}
-
-impl fmt::Display for MappingDirection {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Self::ActuatedToVirtual => "actuated → virtual",
-            Self::VirtualToActuated => "virtual → actuated",
-        })
-    }
-}
 
 /// The two mappings of an [`ActuationGroup`].
 ///
@@ -253,26 +236,28 @@ impl ActuationGroup {
             probe,
             tolerance,
         } = spec;
-        let invalid = |reason: String| KinematicsError::InvalidGroup {
+        let invalid = |problem: GroupProblem| KinematicsError::InvalidGroup {
             group: name.clone(),
-            reason,
+            problem,
         };
         if actuators.is_empty() {
-            return Err(invalid("no actuated coordinates".into()));
+            return Err(invalid(GroupProblem::NoActuators));
         }
         if let Some(a) = first_duplicate(&actuators) {
-            return Err(invalid(format!("actuator '{a}' is listed twice")));
+            return Err(invalid(GroupProblem::DuplicateActuator {
+                actuator: a.to_string(),
+            }));
         }
         if joint_names.is_empty() {
-            return Err(invalid("no joints".into()));
+            return Err(invalid(GroupProblem::NoJoints));
         }
         if let Some(j) = first_duplicate(&joint_names) {
-            return Err(invalid(format!("joint '{j}' is listed twice")));
+            return Err(invalid(GroupProblem::DuplicateJoint {
+                joint: j.to_string(),
+            }));
         }
         if !(tolerance.is_finite() && tolerance >= 0.0) {
-            return Err(invalid(format!(
-                "tolerance {tolerance} is not a finite non-negative number"
-            )));
+            return Err(invalid(GroupProblem::InvalidTolerance { tolerance }));
         }
         let mut joints = Vec::with_capacity(joint_names.len());
         let mut blocks = Vec::with_capacity(joint_names.len());
@@ -561,7 +546,7 @@ enum Coordinate {
 /// // s² = 0.17 + 0.08 sin θ: a 0.21 m² stroke squared puts the knee at 30°.
 /// leg.set_actuated("knee_actuator", 0.21f64.sqrt())?;
 /// assert!((leg.chain().joint_value_deg("knee")? - 30.0).abs() < 1e-9);
-/// let foot = leg.world_placement("foot")?;
+/// let foot = leg.world_from("foot")?;
 /// assert!((foot.translation - DVec3::new(0.5 * 30f64.to_radians().cos(), 0.25, 0.0)).length() < 1e-12);
 /// # Ok(())
 /// # }
@@ -595,12 +580,12 @@ impl ActuatedChain {
         let mut coordinates = Vec::new();
         let mut group_offsets = Vec::with_capacity(groups.len());
         for (g, group) in groups.iter().enumerate() {
-            let invalid = |reason: String| KinematicsError::InvalidGroup {
+            let invalid = |problem: GroupProblem| KinematicsError::InvalidGroup {
                 group: group.name.clone(),
-                reason,
+                problem,
             };
             if groups[..g].iter().any(|o| o.name == group.name) {
-                return Err(invalid("two groups have this name".into()));
+                return Err(invalid(GroupProblem::DuplicateGroup));
             }
             let same_model = group.model_nq == model.nq()
                 && group.joints.iter().zip(&group.joint_names).all(|(&j, n)| {
@@ -609,15 +594,15 @@ impl ActuatedChain {
                         && !model.joint_q_range(j).is_empty()
                 });
             if !same_model {
-                return Err(invalid("it was built for another model".into()));
+                return Err(invalid(GroupProblem::OtherModel));
             }
             for (&j, n) in group.joints.iter().zip(&group.joint_names) {
                 if let Some(first) = joint_group[j] {
                     let first: &ActuationGroup = &groups[first];
-                    return Err(invalid(format!(
-                        "joint '{n}' is already driven by group '{}'",
-                        first.name
-                    )));
+                    return Err(invalid(GroupProblem::JointAlreadyDriven {
+                        joint: n.clone(),
+                        by: first.name.clone(),
+                    }));
                 }
                 joint_group[j] = Some(g);
             }
@@ -654,7 +639,7 @@ impl ActuatedChain {
                     .unwrap_or_else(|| "(directly driven joints)".into());
                 return Err(KinematicsError::InvalidGroup {
                     group,
-                    reason: format!("actuated coordinate name '{n}' is used twice"),
+                    problem: GroupProblem::DuplicateCoordinate { name: n.clone() },
                 });
             }
         }
@@ -829,12 +814,12 @@ impl ActuatedChain {
         self.set_joint_q(name, &[value])
     }
 
-    /// The world placement of a link or named frame (see [`Chain::world_placement`]).
+    /// The world placement of a link or named frame (see [`Chain::world_from`]).
     ///
     /// # Errors
     /// [`KinematicsError::UnknownFrame`].
-    pub fn world_placement(&mut self, name: &str) -> Result<Se3, KinematicsError> {
-        self.chain.world_placement(name)
+    pub fn world_from(&mut self, name: &str) -> Result<Se3, KinematicsError> {
+        self.chain.world_from(name)
     }
 
     /// The pose of `b` in `a` (see [`Chain::relative_transform`]).
@@ -845,9 +830,9 @@ impl ActuatedChain {
         self.chain.relative_transform(a, b)
     }
 
-    /// The world placement of every link (see [`Chain::world_link_placements`]).
-    pub fn world_link_placements(&mut self) -> &[Se3] {
-        self.chain.world_link_placements()
+    /// The world placement of every link (see [`Chain::world_from_link`]).
+    pub fn world_from_link(&mut self) -> &[Se3] {
+        self.chain.world_from_link()
     }
 
     /// The up-to-date kinematics data (see [`Chain::data`]).
@@ -1110,7 +1095,7 @@ mod tests {
         // 0.21 m² gives 30°: the foot is 0.5 m along a shank turned 30° about z, 1 m up.
         leg.set_actuated("knee_actuator", 0.21f64.sqrt()).unwrap();
         assert!((leg.chain().joint_value("knee").unwrap() - FRAC_PI_6).abs() < 1e-12);
-        let foot = leg.world_placement("foot").unwrap();
+        let foot = leg.world_from("foot").unwrap();
         let by_hand = DVec3::new(0.5 * FRAC_PI_6.cos(), 0.5 * FRAC_PI_6.sin(), 1.0);
         assert!((foot.translation - by_hand).length() < 1e-12);
         assert!(foot.abs_diff_eq(
@@ -1119,7 +1104,7 @@ mod tests {
             1e-12
         ));
         // The anchors, placed by forward kinematics, are exactly one stroke apart.
-        let shank = leg.world_placement("shank").unwrap();
+        let shank = leg.world_from("shank").unwrap();
         let gap = shank.transform_point(CHILD_ANCHOR) - PARENT_ANCHOR;
         assert!((gap.length() - 0.21f64.sqrt()).abs() < 1e-12);
 
@@ -1158,7 +1143,7 @@ mod tests {
         for k in 0..=10 {
             let theta = -0.8 + 1.4 * f64::from(k) / 10.0;
             forward_kinematics(&model, &mut data, &[theta]).unwrap();
-            let distance = (data.world_placement(arm).transform_point(ca) - pa).length();
+            let distance = (data.world_from(arm).unwrap().transform_point(ca) - pa).length();
             assert!((act.length(theta) - distance).abs() < 1e-12, "θ = {theta}");
             assert!((act.angle(distance) - theta).abs() < 1e-9, "θ = {theta}");
         }
@@ -1260,8 +1245,10 @@ mod tests {
         let mut data = KinematicsData::new(&model);
         forward_kinematics(&model, &mut data, &[0.5, 0.1, 0.01]).unwrap();
         update_frame_placements(&model, &mut data).unwrap();
-        let hand = robot.world_placement("hand").unwrap();
-        let full = data.world_placement(FrameId::find(&model, "hand").unwrap());
+        let hand = robot.world_from("hand").unwrap();
+        let full = data
+            .world_from(FrameId::find(&model, "hand").unwrap())
+            .unwrap();
         assert!(hand.abs_diff_eq(full, 1e-15, 1e-15));
         let by_hand = Se3::from_rotation_y(0.5)
             * Se3::from_translation(DVec3::new(0.05, 0.0, 0.0))
@@ -1393,8 +1380,8 @@ mod tests {
         .unwrap_err();
         assert!(matches!(
             err,
-            KinematicsError::InvalidGroup { ref group, ref reason }
-                if group == "second" && reason.contains("'pitch'") && reason.contains("'first'")
+            KinematicsError::InvalidGroup { ref group, problem: GroupProblem::JointAlreadyDriven { ref joint, ref by } }
+                if group == "second" && joint == "pitch" && by == "first"
         ));
         // An actuator named like a directly driven joint.
         let err = ActuatedChain::new(Chain::new(model.clone()), vec![make("w", ["grip", "b"])])
@@ -1403,9 +1390,13 @@ mod tests {
         // A group built for another model.
         let other = leg();
         let err = ActuatedChain::new(Chain::new(other), vec![make("w", ["a", "b"])]).unwrap_err();
-        assert!(
-            matches!(err, KinematicsError::InvalidGroup { ref reason, .. } if reason.contains("another model"))
-        );
+        assert!(matches!(
+            err,
+            KinematicsError::InvalidGroup {
+                problem: GroupProblem::OtherModel,
+                ..
+            }
+        ));
     }
 
     #[test]

@@ -100,7 +100,8 @@ fn check_out(out: &[Motion], nv: usize) -> Result<(), KinematicsError> {
 ///
 /// # Errors
 /// [`KinematicsError::DimensionMismatch`] when `out.len() != model.nv()`,
-/// [`KinematicsError::DataMismatch`] when `data` belongs to another model.
+/// [`KinematicsError::DataMismatch`] when `data` belongs to another model,
+/// [`KinematicsError::FrameOutOfRange`] for a link or frame index `model` does not have.
 pub fn frame_jacobian(
     model: &Model,
     data: &KinematicsData,
@@ -110,7 +111,7 @@ pub fn frame_jacobian(
 ) -> Result<(), KinematicsError> {
     data.check_model(model)?;
     check_out(out, model.nv())?;
-    let (body, body_from_frame) = frame.body(model);
+    let (body, body_from_frame) = frame.body(model)?;
     let world_from_frame = data.world_from_body[body] * body_from_frame;
     out.fill(Motion::ZERO);
     let bodies = model.bodies();
@@ -149,7 +150,7 @@ pub fn compute_frame_jacobian(
     check_vector("q", q, model.nq())?;
     check_out(out, model.nv())?;
     placements(model, data, q);
-    let (body, body_from_frame) = frame.body(model);
+    let (body, body_from_frame) = frame.body(model)?;
     let world_from_frame = data.world_from_body[body] * body_from_frame;
     if let FrameId::Link(l) = frame {
         data.world_from_link[l] = world_from_frame;
@@ -213,7 +214,7 @@ pub fn frame_jacobian_time_variation(
 ) -> Result<(), KinematicsError> {
     data.check_model(model)?;
     check_out(out, model.nv())?;
-    let (body, body_from_frame) = frame.body(model);
+    let (body, body_from_frame) = frame.body(model)?;
     let world_from_frame = data.world_from_body[body] * body_from_frame;
     let p = world_from_frame.translation;
     // Twist of the frame's body in the world frame, and the velocity of the frame origin.

@@ -26,7 +26,7 @@
 //! let q = configuration::neutral_configuration(&model);
 //! forward_kinematics(&model, &mut data, &q)?;
 //! let hand = FrameId::find(&model, "panda_hand")?;
-//! println!("hand at {}", data.world_placement(hand).translation);
+//! println!("hand at {}", data.world_from(hand)?.translation);
 //! let mut jacobian = vec![Motion::ZERO; model.nv()];
 //! compute_frame_jacobian(&model, &mut data, &q, hand, ReferenceFrame::LocalWorldAligned, &mut jacobian)?;
 //! // The first joint turns about world z: its column's angular part is z.
@@ -61,6 +61,7 @@ pub mod reachable;
 
 pub use chain::{Chain, ChainStats};
 pub use data::{FrameId, KinematicsData};
+pub use error::GroupProblem;
 pub use error::KinematicsError;
 pub use forward::{
     forward_kinematics, forward_kinematics_with_acceleration, forward_kinematics_with_velocity,

@@ -331,7 +331,7 @@ impl Plan {
         frame: FrameId,
         params: &ReachableParams,
     ) -> Result<(Self, Vec<String>), ReachableError> {
-        check_frame(model, frame)?;
+        frame.check(model)?;
         let q0 = match &params.q0 {
             Some(q0) => {
                 check_vector("q0", q0, model.nq())?;
@@ -339,7 +339,7 @@ impl Plan {
             }
             None => configuration::neutral_configuration(model),
         };
-        let (body, body_from_frame) = frame.body(model);
+        let (body, body_from_frame) = frame.body(model)?;
         let bodies = model.bodies();
         let mut path = Vec::new();
         let mut i = body;
@@ -556,20 +556,6 @@ impl Plan {
     }
 }
 
-fn check_frame(model: &Model, frame: FrameId) -> Result<(), KinematicsError> {
-    let known = match frame {
-        FrameId::Link(l) => l < model.links().len(),
-        FrameId::Frame(f) => f < model.frames().len(),
-    };
-    if known {
-        Ok(())
-    } else {
-        Err(KinematicsError::UnknownFrame {
-            name: format!("{frame:?}"),
-        })
-    }
-}
-
 /// The generator seed of a random task: a splitmix64 mix of the user's seed and the task index.
 fn chunk_seed(sampling: Sampling, chunk: usize) -> u64 {
     let seed = match sampling {
@@ -651,7 +637,7 @@ fn manipulability_index(
 /// # Errors
 /// [`ReachableError::NoSamples`] and [`ReachableError::TooManySamples`] for an empty or
 /// oversized sampling; [`ReachableError::Kinematics`] wrapping
-/// [`KinematicsError::UnknownFrame`] for a frame id not from this model,
+/// [`KinematicsError::FrameOutOfRange`] for a frame id not from this model,
 /// [`KinematicsError::DimensionMismatch`] or [`KinematicsError::NonFinite`] for a bad `q0`.
 ///
 /// # Examples
@@ -751,7 +737,7 @@ pub fn sample_reachable_with_progress(
         },
     );
     Ok(ReachableSet {
-        frame: frame.name(model).to_string(),
+        frame: frame.name(model)?.to_string(),
         task: plan.task,
         sampling: plan.sampling,
         joints,

@@ -212,7 +212,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             model.nq(),
             model.nv()
         );
-        println!("frame_jacobian is timed on '{}'", frame.name(&model));
+        println!("frame_jacobian is timed on '{}'", frame.name(&model)?);
         for (name, ns) in &results {
             println!("  {name:<18} {ns:>10.1}");
         }

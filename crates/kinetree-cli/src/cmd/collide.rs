@@ -7,8 +7,8 @@
 
 use anyhow::{Context, Result};
 use kinetree::collision::{
-    CollisionData, CollisionModel, CollisionOptions, compute_distances, compute_world_distances,
-    self_collisions, world_collisions,
+    CollisionData, CollisionModel, CollisionOptions, compute_distances, compute_self_collisions,
+    compute_world_collisions, compute_world_distances,
 };
 use kinetree::kinematics::KinematicsData;
 use kinetree::model::Geometry;
@@ -106,7 +106,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         cmodel.shapes().len(),
         cmodel.pairs().len()
     );
-    let contacts = self_collisions(&cmodel, &mut data)?.to_vec();
+    let contacts = compute_self_collisions(&cmodel, &mut data)?.to_vec();
     println!("self-collisions: {}", contacts.len());
     for c in &contacts {
         println!(
@@ -116,7 +116,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             -c.distance
         );
     }
-    let world = world_collisions(&cmodel, &mut data)?.to_vec();
+    let world = compute_world_collisions(&cmodel, &mut data)?.to_vec();
     if args.obstacles.is_some() {
         println!("world collisions: {}", world.len());
         for c in &world {

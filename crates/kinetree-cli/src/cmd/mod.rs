@@ -37,12 +37,8 @@ pub(crate) fn root_joint(floating: bool) -> Option<RootJoint> {
 /// # Errors
 /// A malformed entry, an unknown joint, or a wrong number of values (naming the joint).
 pub(crate) fn parse_named(model: &Model, spec: Option<&str>, velocity: bool) -> Result<Vec<f64>> {
-    use kinetree::kinematics::configuration::{neutral_configuration, set_joint_q, set_joint_v};
-    let mut out = if velocity {
-        vec![0.0; model.nv()]
-    } else {
-        neutral_configuration(model)
-    };
+    use kinetree::kinematics::configuration::{Space, from_named};
+    let mut named = Vec::new();
     for entry in spec
         .unwrap_or_default()
         .split(',')
@@ -60,13 +56,14 @@ pub(crate) fn parse_named(model: &Model, spec: Option<&str>, velocity: bool) -> 
                     .with_context(|| format!("'{x}' in '{entry}' is not a number"))
             })
             .collect::<Result<_>>()?;
-        if velocity {
-            set_joint_v(model, &mut out, name.trim(), &values)?;
-        } else {
-            set_joint_q(model, &mut out, name.trim(), &values)?;
-        }
+        named.push((name.trim(), values));
     }
-    Ok(out)
+    let space = if velocity {
+        Space::Velocity
+    } else {
+        Space::Configuration
+    };
+    Ok(from_named(model, space, named, false)?)
 }
 
 /// Writes `values` keyed by the moving joints' names, one line each, to a string.

@@ -13,7 +13,7 @@ use kinetree_collision::kinematics::spatial::Se3;
 use kinetree_collision::parry::math::Pose;
 use kinetree_collision::{
     CollisionData, CollisionModel, CollisionOptions, any_collision, compute_distances,
-    compute_world_distances, self_collisions, world_collisions,
+    compute_self_collisions, compute_world_collisions, compute_world_distances,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -78,8 +78,8 @@ fn queries_do_not_allocate() {
             data.set_obstacle_pose(table, &Pose::translation(0.0, 0.0, 0.01 * k as f64))
                 .unwrap();
             any_collision(&cmodel, data).unwrap();
-            self_collisions(&cmodel, data).unwrap();
-            world_collisions(&cmodel, data).unwrap();
+            compute_self_collisions(&cmodel, data).unwrap();
+            compute_world_collisions(&cmodel, data).unwrap();
             compute_distances(&cmodel, data).unwrap();
             compute_world_distances(&cmodel, data).unwrap();
         }

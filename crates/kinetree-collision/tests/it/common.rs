@@ -1,6 +1,6 @@
 //! Shared helpers: the panda_collision reference and small inline robots.
 
-use kinetree_collision::kinematics::configuration::{neutral_configuration, set_joint_q};
+use kinetree_collision::kinematics::configuration::{Space, from_named};
 use kinetree_collision::kinematics::model::{Model, RootJoint};
 use serde_json::Value;
 use std::path::PathBuf;
@@ -25,11 +25,9 @@ pub(crate) fn panda() -> (Value, Model) {
 
 /// Our `q` for a sample's `state.q` (keyed by joint name).
 pub(crate) fn q_of(model: &Model, sample: &Value) -> Vec<f64> {
-    let mut q = neutral_configuration(model);
-    for (name, value) in sample["state"]["q"].as_object().unwrap() {
-        set_joint_q(model, &mut q, name, &[value.as_f64().unwrap()]).unwrap();
-    }
-    q
+    let named = sample["state"]["q"].as_object().unwrap();
+    let values = named.iter().map(|(n, x)| (n, [x.as_f64().unwrap()]));
+    from_named(model, Space::Configuration, values, false).unwrap()
 }
 
 /// A robot from an inline URDF body (links and joints), fixed to the world.

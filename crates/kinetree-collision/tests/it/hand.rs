@@ -6,7 +6,7 @@ use kinetree_collision::kinematics::KinematicsData;
 use kinetree_collision::kinematics::model::Model;
 use kinetree_collision::{
     CollisionData, CollisionModel, CollisionOptions, Proximity, any_collision, compute_distances,
-    self_collisions,
+    compute_self_collisions,
 };
 
 /// Two links `a` and `b` on prismatic joints along world x from a common base (sibling bodies,
@@ -45,7 +45,7 @@ fn measure(model: &Model, qa: f64, qb: f64) -> (Proximity, bool) {
         .unwrap();
     let p = compute_distances(&cmodel, &mut data).unwrap()[0];
     let hit = any_collision(&cmodel, &mut data).unwrap();
-    let contacts = self_collisions(&cmodel, &mut data).unwrap();
+    let contacts = compute_self_collisions(&cmodel, &mut data).unwrap();
     assert_eq!(contacts.len(), usize::from(hit));
     if hit {
         assert!((contacts[0].distance - p.distance).abs() < 1e-9);

@@ -4,7 +4,7 @@ use crate::common::{panda, q_of};
 use kinetree_collision::kinematics::KinematicsData;
 use kinetree_collision::{
     CollisionData, CollisionModel, CollisionOptions, any_collision, compute_distances,
-    link_pair_distances, self_collisions,
+    compute_link_pair_distances, compute_self_collisions,
 };
 use std::collections::BTreeMap;
 
@@ -53,7 +53,7 @@ fn link_pair_distances_match_coal() {
     for (s, sample) in reference["samples"].as_array().unwrap().iter().enumerate() {
         let q = q_of(&model, sample);
         let ours: BTreeMap<_, _> =
-            link_pair_distances(&model, &cmodel, &mut kinematics, &mut data, &q)
+            compute_link_pair_distances(&model, &cmodel, &mut kinematics, &mut data, &q)
                 .unwrap()
                 .into_iter()
                 .map(|(a, b, d)| (key(a, b), d))
@@ -90,7 +90,9 @@ fn link_pair_distances_match_coal() {
             colliding,
             "sample {s}"
         );
-        let contacts = self_collisions(&cmodel, &mut data).unwrap().to_vec();
+        let contacts = compute_self_collisions(&cmodel, &mut data)
+            .unwrap()
+            .to_vec();
         let distances = compute_distances(&cmodel, &mut data).unwrap();
         let negative: Vec<_> = distances
             .iter()

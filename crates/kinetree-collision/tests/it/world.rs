@@ -9,7 +9,7 @@ use kinetree_collision::parry::math::Pose;
 use kinetree_collision::parry::shape::SharedShape;
 use kinetree_collision::{
     CollisionData, CollisionError, CollisionModel, CollisionOptions, ObstacleId, any_collision,
-    compute_world_distances, world_collisions,
+    compute_world_collisions, compute_world_distances,
 };
 
 #[test]
@@ -36,7 +36,11 @@ fn obstacles_collide_and_measure() {
             &options,
         )
         .unwrap();
-    assert!(world_collisions(&cmodel, &mut data).unwrap().is_empty());
+    assert!(
+        compute_world_collisions(&cmodel, &mut data)
+            .unwrap()
+            .is_empty()
+    );
     let distances = compute_world_distances(&cmodel, &mut data).unwrap();
     assert_eq!(distances.len(), cmodel.shapes().len());
     // The base sphere panda_link0_1 (radius 0.09 at (-0.06, 0, 0.06)) is level with the
@@ -57,7 +61,7 @@ fn obstacles_collide_and_measure() {
     data.set_obstacle_pose(ball, &Pose::translation(-0.06, 0.0, 0.06 + 0.14))
         .unwrap();
     assert!(any_collision(&cmodel, &mut data).unwrap());
-    let contacts = world_collisions(&cmodel, &mut data).unwrap();
+    let contacts = compute_world_collisions(&cmodel, &mut data).unwrap();
     let c = contacts
         .iter()
         .find(|c| c.a == base && c.b == ball.0)
@@ -93,6 +97,13 @@ fn obstacles_collide_and_measure() {
     ));
     data.clear_obstacles();
     assert_eq!(data.obstacles().count(), 0);
+    // A shape index past the model's shapes is an error; the last one is the last pose.
+    let count = cmodel.shapes().len();
+    assert_eq!(data.shape_pose(count - 1).ok(), data.shape_poses().last());
+    assert!(matches!(
+        data.shape_pose(count),
+        Err(CollisionError::ShapeOutOfRange { index, count: c }) if index == count && c == count
+    ));
 }
 
 #[test]

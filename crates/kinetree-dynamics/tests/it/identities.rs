@@ -12,8 +12,8 @@ use kinetree_dynamics::{
     DynamicsData, ExternalForces, FrameId, JointTerms, ReferenceFrame, aba,
     aba_with_external_forces, center_of_mass, center_of_mass_jacobian, center_of_mass_velocity,
     centroidal_momentum, crba, exudyn, factorize_mass_matrix, generalized_gravity,
-    mass_matrix_inverse, mechanical_energy, nonlinear_effects, rnea, rnea_with_external_forces,
-    solve_mass_matrix, total_mass,
+    mass_matrix_inverse, mechanical_energy, moving_mass, nonlinear_effects, rnea,
+    rnea_with_external_forces, solve_mass_matrix,
 };
 
 const SAMPLES: usize = 20;
@@ -251,7 +251,7 @@ fn com_quantities_agree() {
         let mut data = DynamicsData::new(&model);
         let mut r = rng(6);
         let mut qx = vec![0.0; model.nq()];
-        let mass = total_mass(&model);
+        let mass = moving_mass(&model);
         for _ in 0..5 {
             let (q, v, _) = random_state(&model, &mut r);
             let com = center_of_mass(&model, &mut data, &q).unwrap();

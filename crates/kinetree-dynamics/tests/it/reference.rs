@@ -6,7 +6,7 @@
 //! [`DynamicsData::new`], which leaves them out too.
 
 use crate::common::{index_map, q_of, relative_error, robots, v_of, values};
-use kinetree_dynamics::{DynamicsData, compute_all_terms, total_mass};
+use kinetree_dynamics::{DynamicsData, compute_all_terms, moving_mass};
 use serde_json::Value;
 
 const TOL: f64 = 1e-9;
@@ -46,7 +46,7 @@ fn dynamics_match_pinocchio() {
         let mut data = DynamicsData::new(&model);
         let map = index_map(&model, &reference);
         let nv = model.nv();
-        let mass = total_mass(&model);
+        let mass = moving_mass(&model);
         let expected_mass = reference["total_mass"].as_f64().unwrap();
         assert!(
             (mass - expected_mass).abs() <= TOL * expected_mass,

@@ -31,7 +31,7 @@
 //! let mut q_goal = configuration::neutral_configuration(&model);
 //! q_goal[..7].copy_from_slice(&[0.3, -0.5, 0.2, -2.0, 0.1, 1.6, 0.7]);
 //! forward_kinematics(&model, &mut data, &q_goal)?;
-//! let goal = *data.world_placement(hand);
+//! let goal = *data.world_from(hand)?;
 //!
 //! let mut solver = IkSolver::new(&model, IkParams::default());
 //! let q0 = configuration::neutral_configuration(&model);
@@ -39,7 +39,7 @@
 //! assert!(report.is_converged());
 //! assert!(report.position_error < 1e-6 && report.orientation_error < 1e-5);
 //! // `data` now holds the forward kinematics of the solution.
-//! assert!((data.world_placement(hand).translation - goal.translation).length() < 1e-6);
+//! assert!((data.world_from(hand)?.translation - goal.translation).length() < 1e-6);
 //! println!("{} iterations, {} restarts, {:?}", report.iterations, report.restarts, report.elapsed);
 //! # Ok(())
 //! # }

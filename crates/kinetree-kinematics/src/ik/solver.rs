@@ -26,7 +26,7 @@ use super::params::IkParams;
 use super::report::{IkIterate, IkReport, IkStatus};
 use super::target::IkTarget;
 use crate::configuration::{difference_joint, integrate_joint, sampling_range, wrap_angle};
-use crate::data::{FrameId, KinematicsData};
+use crate::data::KinematicsData;
 use crate::error::{KinematicsError, check_vector};
 use crate::forward::{forward_kinematics, update_frame_placements};
 use glam::{DMat3, DQuat, DVec3};
@@ -541,7 +541,7 @@ impl IkSolver {
     /// - [`KinematicsError::DimensionMismatch`] / [`KinematicsError::NonFinite`]: `q0` has the
     ///   wrong length or a NaN; more targets than [`IkParams::max_targets`]; a target pose or
     ///   weight is not finite.
-    /// - [`KinematicsError::UnknownFrame`]: a target's frame is not in `model`.
+    /// - [`KinematicsError::FrameOutOfRange`]: a target's frame is not in `model`.
     /// - [`KinematicsError::InvalidTarget`]: no target, a target rotation that is not a rotation
     ///   matrix, a negative weight, or every weight zero.
     /// - [`KinematicsError::DataMismatch`]: `model` or `data` is not the solver's model.
@@ -783,15 +783,7 @@ impl IkSolver {
         let bodies = model.bodies();
         let mut m = 0;
         for (index, t) in targets.iter().enumerate() {
-            let known = match t.frame {
-                FrameId::Link(l) => l < model.links().len(),
-                FrameId::Frame(f) => f < model.frames().len(),
-            };
-            if !known {
-                return Err(KinematicsError::UnknownFrame {
-                    name: format!("{:?}", t.frame),
-                });
-            }
+            t.frame.check(model)?;
             if !t.pose.is_finite() {
                 return Err(KinematicsError::NonFinite {
                     what: "target pose",
@@ -816,7 +808,7 @@ impl IkSolver {
                     reason: "the pose's rotation is not a rotation matrix",
                 });
             }
-            let (body, body_from_frame) = t.frame.body(model);
+            let (body, body_from_frame) = t.frame.body(model)?;
             let mut s = TargetState {
                 body,
                 body_from_frame,

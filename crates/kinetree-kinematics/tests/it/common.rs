@@ -1,6 +1,6 @@
 //! Shared helpers: loading the reference robots and mapping their named states.
 
-use kinetree_kinematics::configuration::{neutral_configuration, set_joint_q, set_joint_v};
+use kinetree_kinematics::configuration::{Space, from_named};
 use kinetree_kinematics::model::{Model, RootJoint};
 use serde_json::Value;
 use std::path::PathBuf;
@@ -45,20 +45,26 @@ fn values(v: &Value) -> Vec<f64> {
 
 /// Our `q` for a sample's `state.q` (keyed by joint name).
 pub(crate) fn q_of(model: &Model, sample: &Value) -> Vec<f64> {
-    let mut q = neutral_configuration(model);
-    for (name, value) in sample["state"]["q"].as_object().unwrap() {
-        set_joint_q(model, &mut q, name, &values(value)).unwrap();
-    }
-    q
+    let named = sample["state"]["q"].as_object().unwrap();
+    from_named(
+        model,
+        Space::Configuration,
+        named.iter().map(|(n, x)| (n, values(x))),
+        false,
+    )
+    .unwrap()
 }
 
 /// Our velocity-space vector for a sample's `state.<key>`.
 pub(crate) fn v_of(model: &Model, sample: &Value, key: &str) -> Vec<f64> {
-    let mut v = vec![0.0; model.nv()];
-    for (name, value) in sample["state"][key].as_object().unwrap() {
-        set_joint_v(model, &mut v, name, &values(value)).unwrap();
-    }
-    v
+    let named = sample["state"][key].as_object().unwrap();
+    from_named(
+        model,
+        Space::Velocity,
+        named.iter().map(|(n, x)| (n, values(x))),
+        false,
+    )
+    .unwrap()
 }
 
 /// Column `k` of our v order for column `pk` of Pinocchio's v order, per the reference joint table.

@@ -6,7 +6,8 @@
 use crate::common::reference_dir;
 use glam::{DMat3, DVec3};
 use kinetree_kinematics::configuration::{
-    self, is_within_limits, neutral_configuration, random_configuration, set_joint_q,
+    self, Space, is_within_limits, neutral_configuration, random_configuration, set_joint_q,
+    set_named,
 };
 use kinetree_kinematics::ik::{
     IkParams, IkReport, IkSolver, IkStatus, IkTarget, PlanarTwoLink, TwoLinkSeeder,
@@ -66,7 +67,7 @@ fn errors(model: &Model, frame: FrameId, q: &[f64], goal: &Se3) -> (f64, f64) {
     let mut data = KinematicsData::new(model);
     forward_kinematics(model, &mut data, q).unwrap();
     update_frame_placements(model, &mut data).unwrap();
-    let x = data.world_placement(frame);
+    let x = data.world_from(frame).unwrap();
     (
         (x.translation - goal.translation).length(),
         log3(&(goal.rotation.transpose() * x.rotation)).length(),
@@ -77,7 +78,7 @@ fn pose_at(model: &Model, frame: FrameId, q: &[f64]) -> Se3 {
     let mut data = KinematicsData::new(model);
     forward_kinematics(model, &mut data, q).unwrap();
     update_frame_placements(model, &mut data).unwrap();
-    *data.world_placement(frame)
+    *data.world_from(frame).unwrap()
 }
 
 #[test]
@@ -95,9 +96,9 @@ fn reference_targets_converge_on_every_arm() {
             let goal = pose_of(t);
             // The solution given in the file reproduces the target with our forward kinematics.
             let mut q_ref = neutral.clone();
-            for (name, value) in t["q_by_joint"].as_object().unwrap() {
-                set_joint_q(&model, &mut q_ref, name, &[value.as_f64().unwrap()]).unwrap();
-            }
+            let named = t["q_by_joint"].as_object().unwrap();
+            let values = named.iter().map(|(n, x)| (n, [x.as_f64().unwrap()]));
+            set_named(&model, Space::Configuration, &mut q_ref, values).unwrap();
             let (p, o) = errors(&model, ee, &q_ref, &goal);
             assert!(
                 p < 1e-9 && o < 1e-9,
@@ -118,7 +119,7 @@ fn reference_targets_converge_on_every_arm() {
                     assert_eq!(&report.q[7..], &q0[7..]);
                 }
                 // `data` holds the solution's forward kinematics.
-                let x = data.world_placement(ee);
+                let x = data.world_from(ee).unwrap();
                 assert!((x.translation - goal.translation).length() < 1e-6);
             }
         }
@@ -486,7 +487,7 @@ fn bad_inputs_are_typed_errors() {
     let unknown = IkTarget::new(FrameId::Link(10_000), good.pose);
     assert!(matches!(
         solver.solve(&model, &mut data, &unknown, &q0),
-        Err(KinematicsError::UnknownFrame { .. })
+        Err(KinematicsError::FrameOutOfRange { index: 10_000, .. })
     ));
     let nan = IkTarget::position(ee, DVec3::new(f64::NAN, 0.0, 0.0));
     assert!(matches!(

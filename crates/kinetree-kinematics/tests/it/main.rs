@@ -3,6 +3,7 @@
 mod allocation;
 mod common;
 mod finite_differences;
+mod frame_id;
 mod ik;
 mod mimic;
 mod reachable;

@@ -98,7 +98,7 @@ fn coupled_jacobians_equal_finite_differences() {
             compute_joint_jacobians(&model, &mut data, &q).unwrap();
             frame_jacobian(&model, &data, frame, rf, &mut jac).unwrap();
             compute_frame_jacobian(&model, &mut data, &q, frame, rf, &mut direct).unwrap();
-            let t0 = *data.world_placement(frame);
+            let t0 = *data.world_from(frame).unwrap();
             for k in 0..model.nv() {
                 assert!(jac[k].abs_diff_eq(&direct[k], 1e-14));
                 let mut dv = vec![0.0; model.nv()];
@@ -106,7 +106,8 @@ fn coupled_jacobians_equal_finite_differences() {
                 let mut qp = vec![0.0; model.nq()];
                 integrate(&model, &q, &dv, &mut qp).unwrap();
                 forward_kinematics(&model, &mut data, &qp).unwrap();
-                let local = explog::log6(&t0.inv_mul(data.world_placement(frame))) * (1.0 / eps);
+                let local =
+                    explog::log6(&t0.inv_mul(data.world_from(frame).unwrap())) * (1.0 / eps);
                 let fd = change_reference(&t0, &local, rf);
                 assert!(
                     fd.abs_diff_eq(&jac[k], 1e-5),

@@ -364,7 +364,11 @@ fn bad_inputs_are_typed_errors() {
     assert!(matches!(
         sample_reachable(&model, FrameId::Link(99), &ReachableParams::grid(3)),
         Err(ReachableError::Kinematics(
-            KinematicsError::UnknownFrame { .. }
+            KinematicsError::FrameOutOfRange {
+                what: "link",
+                index: 99,
+                ..
+            }
         ))
     ));
     assert!(matches!(

@@ -18,7 +18,9 @@ fn link_poses_match_pinocchio() {
             let q = q_of(&model, sample);
             kinetree_kinematics::forward_kinematics(&model, &mut data, &q).unwrap();
             for (link, pose) in sample["link_poses"].as_object().unwrap() {
-                let ours = data.world_placement(FrameId::find(&model, link).unwrap());
+                let ours = data
+                    .world_from(FrameId::find(&model, link).unwrap())
+                    .unwrap();
                 let rows = ours.rotation_rows();
                 for i in 0..3 {
                     worst = worst.max(
