@@ -703,3 +703,13 @@ fn ik_solution_places_the_frame_where_compute_finds_it() {
     ]);
     assert!(!o.status.success() && stderr(&o).contains("no_such_frame"));
 }
+
+#[test]
+fn collide_finds_the_bundled_panda_meshes_with_no_flag() {
+    let out = kinetree(&["collide", &panda()]);
+    let text = stdout(&out);
+    assert!(out.status.success(), "stderr: {}", stderr(&out));
+    // 9 STL meshes and 8 finger boxes, none skipped.
+    assert!(text.starts_with("panda: 17 shapes,"), "{text}");
+    assert!(!stderr(&out).contains("skipped"), "{}", stderr(&out));
+}

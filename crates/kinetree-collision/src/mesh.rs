@@ -22,20 +22,28 @@ pub struct TriangleMesh {
 
 /// The candidate paths for a mesh name, in the order they are tried.
 ///
-/// - `package://pkg/rel/path`: for every search path `dir`, `dir/pkg/rel/path` then
-///   `dir/rel/path` (so a search path may be the directory that contains the ROS packages or the
-///   package directory itself).
+/// - `package://pkg/a/b/x.stl`: for every search path `dir`, `dir/pkg/a/b/x.stl`, then
+///   `dir/a/b/x.stl` (the name within the package), then `dir/b/x.stl` (shorter tails that
+///   keep at least one directory, longest first). So a search path may be the directory that contains the ROS packages, the
+///   package directory itself, or any directory further down the package's tree, as when
+///   example-robot-data's `package://example-robot-data/robots/panda_description/…` is found in
+///   a directory that holds `panda_description/`.
 /// - `file:///abs/path` and absolute paths: that path only.
 /// - relative paths: `dir/path` for every search path, in order.
+///
+/// [`model_search_paths`] adds the model file's own directory, the one rule by which every
+/// tool finds the meshes of a model file.
 #[must_use]
 pub fn candidate_paths(filename: &str, search_paths: &[PathBuf]) -> Vec<PathBuf> {
     if let Some(rest) = filename.strip_prefix("package://") {
+        let parts: Vec<&str> = rest.split('/').filter(|p| !p.is_empty()).collect();
         let mut out = Vec::new();
-        let within_package = rest.split_once('/').map(|(_, r)| r);
         for dir in search_paths {
-            out.push(dir.join(rest));
-            if let Some(r) = within_package {
-                out.push(dir.join(r));
+            // The whole name, the name within the package, then shorter tails that still
+            // keep a directory.
+            let tails = parts.len().saturating_sub(1).max(parts.len().min(2));
+            for start in 0..tails {
+                out.push(parts[start..].iter().fold(dir.clone(), |p, c| p.join(c)));
             }
         }
         return out;
@@ -46,6 +54,26 @@ pub fn candidate_paths(filename: &str, search_paths: &[PathBuf]) -> Vec<PathBuf>
         return vec![path.to_path_buf()];
     }
     search_paths.iter().map(|d| d.join(path)).collect()
+}
+
+/// The mesh search paths for a model read from `model_file`: the user's directories (`extra`,
+/// tried first, in order), then the directory that contains the model file.
+///
+/// This is the one rule by which the CLI's commands (`collide`, `compute`, `bench`, `view`)
+/// find meshes: relative names and `package://` names are looked up next to the model file
+/// with no flag, so the bundled `tests/data/robots/panda.urdf` finds
+/// `tests/data/robots/panda_description/meshes/…`.
+#[must_use]
+pub fn model_search_paths(model_file: &Path, extra: &[PathBuf]) -> Vec<PathBuf> {
+    let mut paths = extra.to_vec();
+    let dir = model_file
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    if !paths.contains(&dir) {
+        paths.push(dir);
+    }
+    paths
 }
 
 /// Finds a mesh file through the search paths (see [`candidate_paths`]).
@@ -267,7 +295,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn package_uris_try_both_layouts() {
+    fn package_uris_try_every_tail() {
         let dirs = [PathBuf::from("/a"), PathBuf::from("/b/pkg")];
         let c = candidate_paths("package://pkg/meshes/x.stl", &dirs);
         assert_eq!(
@@ -281,12 +309,47 @@ mod tests {
             .map(PathBuf::from)
         );
         assert_eq!(
+            candidate_paths("package://erd/robots/panda/meshes/x.stl", &dirs[..1]),
+            [
+                "/a/erd/robots/panda/meshes/x.stl",
+                "/a/robots/panda/meshes/x.stl",
+                "/a/panda/meshes/x.stl",
+                "/a/meshes/x.stl"
+            ]
+            .map(PathBuf::from)
+        );
+        assert_eq!(
+            candidate_paths("package://pkg/x.stl", &dirs[..1]),
+            ["/a/pkg/x.stl", "/a/x.stl"].map(PathBuf::from)
+        );
+        assert_eq!(
+            candidate_paths("package://x.stl", &dirs[..1]),
+            [PathBuf::from("/a/x.stl")]
+        );
+        assert_eq!(
             candidate_paths("file:///m/x.obj", &dirs),
             [PathBuf::from("/m/x.obj")]
         );
         assert_eq!(
             candidate_paths("m/x.obj", &dirs),
             [PathBuf::from("/a/m/x.obj"), PathBuf::from("/b/pkg/m/x.obj")]
+        );
+    }
+
+    #[test]
+    fn model_search_paths_end_with_the_model_directory() {
+        let extra = [PathBuf::from("/m")];
+        assert_eq!(
+            model_search_paths(Path::new("/r/robot.urdf"), &extra),
+            [PathBuf::from("/m"), PathBuf::from("/r")]
+        );
+        assert_eq!(
+            model_search_paths(Path::new("robot.urdf"), &[]),
+            [PathBuf::from(".")]
+        );
+        assert_eq!(
+            model_search_paths(Path::new("/r/robot.urdf"), &[PathBuf::from("/r")]),
+            [PathBuf::from("/r")]
         );
     }
 

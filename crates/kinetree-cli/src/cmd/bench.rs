@@ -169,12 +169,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     ));
 
     let options = kinetree::collision::CollisionOptions::default()
-        .with_mesh_path(
-            args.model
-                .parent()
-                .map(std::path::Path::to_path_buf)
-                .unwrap_or_default(),
-        )
+        .with_model_file(&args.model, &[])
         .skip_missing_meshes();
     if let Ok(cmodel) = kinetree::collision::CollisionModel::from_model(&model, &options)
         && !cmodel.pairs().is_empty()

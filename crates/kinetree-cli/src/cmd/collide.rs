@@ -29,7 +29,8 @@ pub(crate) struct Args {
     /// A JSON scene of world obstacles.
     #[arg(long)]
     obstacles: Option<PathBuf>,
-    /// A directory where meshes are looked up (`package://` and relative names); repeatable.
+    /// A directory where meshes are looked up (`package://` and relative names) before the
+    /// model file's directory; repeatable.
     #[arg(long = "mesh-path")]
     mesh_paths: Vec<PathBuf>,
     /// Skip meshes that cannot be found or read (listed on stderr).
@@ -61,8 +62,7 @@ struct SceneObstacle {
 pub(crate) fn run(args: &Args) -> Result<()> {
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
     let q = super::parse_named(&model, args.q.as_deref(), false)?;
-    let mut options = CollisionOptions::default();
-    options.mesh_search_paths.clone_from(&args.mesh_paths);
+    let mut options = CollisionOptions::default().with_model_file(&args.model, &args.mesh_paths);
     if args.skip_missing_meshes {
         options = options.skip_missing_meshes();
     }

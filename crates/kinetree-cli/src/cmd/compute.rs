@@ -33,7 +33,8 @@ pub(crate) struct Args {
     /// Add `collision` to each sample: the minimum signed distance of every candidate link pair.
     #[arg(long)]
     collision: bool,
-    /// A directory where collision meshes are looked up (`package://` and relative names); repeatable.
+    /// A directory where collision meshes are looked up (`package://` and relative names) before
+    /// the model file's directory; repeatable.
     #[arg(long = "mesh-path")]
     mesh_paths: Vec<PathBuf>,
     /// Drop collision meshes that cannot be found or read (they are listed on stderr).
@@ -56,8 +57,8 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         no_dynamics: false,
         joint_dynamics: args.joint_dynamics,
         collision: args.collision.then(|| {
-            let mut o = kinetree::collision::CollisionOptions::default();
-            o.mesh_search_paths.clone_from(&args.mesh_paths);
+            let mut o = kinetree::collision::CollisionOptions::default()
+                .with_model_file(&args.model, &args.mesh_paths);
             if args.skip_missing_meshes {
                 o = o.skip_missing_meshes();
             }

@@ -108,3 +108,27 @@ fn missing_mesh_is_an_error_naming_the_file_or_skipped() {
         CollisionModel::from_model(&model, &options.with_mesh_mode(MeshMode::Ignore)).unwrap();
     assert_eq!(cmodel.skipped_meshes().len(), 1);
 }
+
+#[test]
+fn the_bundled_panda_finds_its_meshes_next_to_the_urdf() {
+    use kinetree_collision::kinematics::model::{Model, RootJoint};
+    let urdf = data_dir().join("robots/panda.urdf");
+    let model = Model::from_urdf_file(&urdf, RootJoint::Fixed).unwrap();
+    // No search path given: `package://example-robot-data/robots/panda_description/…` resolves
+    // to tests/data/robots/panda_description/… through the model file's directory.
+    let options = CollisionOptions::default().with_model_file(&urdf, &[]);
+    let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+    assert!(cmodel.skipped_meshes().is_empty());
+    // 17 collision elements: 9 link meshes (link0..link7, hand) and 4 boxes per finger.
+    assert_eq!(cmodel.shapes().len(), 17);
+    let srdf = std::fs::read_to_string(data_dir().join("robots/panda_description/srdf/panda.srdf"))
+        .unwrap();
+    // The bundled SRDF names links of the bundled URDF only.
+    let disabled = kinetree_collision::srdf::parse_disabled_pairs(&srdf).unwrap();
+    assert!(disabled.len() > 10, "{}", disabled.len());
+    for pair in &disabled {
+        for link in [&pair.link1, &pair.link2] {
+            assert!(model.link_index(link).is_some(), "{link}");
+        }
+    }
+}
