@@ -598,6 +598,69 @@ fn simulate_conserves_energy_and_writes_a_plot() {
 }
 
 #[test]
+fn simulate_reports_limit_violations_and_stops_at_the_limits() {
+    // A pendulum with limits [-1, 1] rad thrown from 0.9 rad at 5 rad/s passes its upper limit
+    // within 0.03 s (gravity cannot stop ½·0.25·5² = 3.1 J in 0.1 rad).
+    let dir = scratch("limits");
+    let urdf = dir.join("pendulum.urdf");
+    std::fs::write(&urdf, r#"<robot name="p"><link name="base"/>
+      <link name="bob"><inertial><origin xyz="0.5 0 0"/><mass value="1"/>
+        <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+      <joint name="hinge" type="revolute"><parent link="base"/><child link="bob"/><axis xyz="0 1 0"/>
+        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    </robot>"#).unwrap();
+    let run = |extra: &[&str]| -> String {
+        let mut args = vec![
+            "simulate",
+            urdf.to_str().unwrap(),
+            "--q",
+            "hinge=0.9",
+            "--v",
+            "hinge=5",
+            "--duration",
+            "0.2",
+        ];
+        args.extend(extra);
+        let o = kinetree(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+    };
+    let text = run(&[]);
+    assert!(
+        text.contains("1 of 1 limited coordinates left their limits"),
+        "{text}"
+    );
+    let line = row(&text, "hinge");
+    assert_eq!(line[1..3], ["limits", "[-1,"], "{text}");
+    let text = run(&["--joint-limits", "stop"]);
+    assert!(
+        text.contains("1 of 1 limited coordinates reached a stop"),
+        "{text}"
+    );
+    let dissipated: f64 = text
+        .split("reached a stop, ")
+        .nth(1)
+        .and_then(|r| r.split(" J").next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(dissipated > 0.1, "{text}");
+    let q: f64 = section(&format!("\n{text}"), "final q:")
+        .lines()
+        .find(|l| l.trim_start().starts_with("hinge"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!((-1.0..=1.0).contains(&q), "{text}");
+    let o = kinetree(&[
+        "simulate",
+        urdf.to_str().unwrap(),
+        "--joint-limits",
+        "bounce",
+    ]);
+    assert!(!o.status.success() && stderr(&o).contains("bounce"));
+}
+
+#[test]
 fn collide_reports_hand_computed_distances() {
     // Two unit-radius balls, a on the base and b two joints out (adjacent links are never
     // candidates): centres 3 m apart at q = 0, so the signed distance is 1 m; at slide = -1.5

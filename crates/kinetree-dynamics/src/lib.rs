@@ -5,7 +5,8 @@
 //! [`generalized_gravity`]), the joint-space mass matrix ([`crba`]) and its tree-sparse
 //! factorization ([`factorize_mass_matrix`], [`solve_mass_matrix`], [`mass_matrix_inverse`]),
 //! forward dynamics ([`aba`]), energies, centre of mass and centroidal momentum, a
-//! fixed-step integrator ([`step`]), and the analytic [`derivatives`] of inverse dynamics, gravity
+//! fixed-step integrator ([`step`]) with optional inelastic joint-limit stops
+//! ([`apply_hard_stops`]), and the analytic [`derivatives`] of inverse dynamics, gravity
 //! and forward dynamics ([`rnea_derivatives`], [`aba_derivatives`]). It sits on `kinetree-kinematics` (re-exported as
 //! [`kinematics`], with [`model`] and [`spatial`] below it).
 //!
@@ -74,6 +75,7 @@ pub mod exudyn;
 mod factor;
 mod integrator;
 mod joint_ops;
+mod limits;
 mod rnea;
 
 pub use aba::{aba, aba_with_external_forces};
@@ -96,4 +98,5 @@ pub use factor::{factorize_mass_matrix, mass_matrix_inverse, solve_mass_matrix};
 pub use integrator::{Integrator, step, step_with_external_forces};
 pub use kinetree_kinematics as kinematics;
 pub use kinetree_kinematics::{FrameId, ReferenceFrame, model, spatial};
+pub use limits::{HardStopReport, LimitModel, apply_hard_stops, limited_coordinates};
 pub use rnea::{generalized_gravity, nonlinear_effects, rnea, rnea_with_external_forces};

@@ -4,7 +4,10 @@
 
 use crate::plot::{Series, chart, document};
 use anyhow::{Context, Result, bail};
-use kinetree::dynamics::{DynamicsData, Integrator, JointTerms, mechanical_energy, step};
+use kinetree::dynamics::{
+    DynamicsData, Integrator, JointTerms, LimitModel, apply_hard_stops, limited_coordinates,
+    mechanical_energy, step,
+};
 use std::path::PathBuf;
 
 /// Arguments of `kinetree simulate`.
@@ -37,6 +40,12 @@ pub(crate) struct Args {
     /// default a simulation uses them (URDF `<dynamics>`), as the real machine has them.
     #[arg(long, alias = "ignore-joint-dynamics")]
     no_joint_dynamics: bool,
+    /// What happens at a joint's position limit: `ignore` (default: the limits are not part of
+    /// the dynamics; every violation is reported) or `stop`, an inelastic hard stop after every
+    /// step (the coordinate is put back on its limit and an impulse at that joint removes its
+    /// outward velocity, restitution 0; the energy lost is reported).
+    #[arg(long, default_value = "ignore", value_name = "ignore|stop")]
+    joint_limits: String,
     /// Write an SVG plot of joint positions and mechanical energy over time.
     #[arg(long)]
     plot: Option<PathBuf>,
@@ -52,6 +61,11 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         "rk4" => Integrator::RungeKutta4,
         "euler" => Integrator::SemiImplicitEuler,
         other => bail!("unknown integrator '{other}' (rk4 or euler)"),
+    };
+    let limit_model = match args.joint_limits.as_str() {
+        "ignore" => LimitModel::Ignore,
+        "stop" => LimitModel::InelasticStop,
+        other => bail!("unknown --joint-limits '{other}' (ignore or stop)"),
     };
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
     let mut q = super::parse_named(&model, args.q.as_deref(), false)?;
@@ -80,10 +94,18 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         }
     };
     record(0.0, &q, &mut curves);
+    let mut limits = LimitLog::new(&model, &q);
+    let mut dissipated_by_stops = 0.0;
     let start = std::time::Instant::now();
     for k in 1..=steps {
         step(&model, &mut data, integrator, &mut q, &mut v, &tau, args.dt)
             .with_context(|| format!("step {k} (t = {:.6} s)", k as f64 * args.dt))?;
+        limits.record(k as f64 * args.dt, &q);
+        if limit_model == LimitModel::InelasticStop {
+            dissipated_by_stops += apply_hard_stops(&model, &mut data, &mut q, &mut v)
+                .with_context(|| format!("hard stop after step {k}"))?
+                .dissipated;
+        }
         if k % every == 0 || k == steps {
             let t = k as f64 * args.dt;
             record(t, &q, &mut curves);
@@ -113,6 +135,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         e1 - e0,
         (e1 - e0) / e0.abs().max(1e-300)
     );
+    limits.print(&model, limit_model, dissipated_by_stops);
     println!("final q:");
     for j in model.moving_joints() {
         let x: Vec<String> = q[model.joint_q_range(j)]
@@ -172,4 +195,69 @@ fn joint_terms_line(model: &kinetree::model::Model) -> String {
         "joint damping, friction and armature: on, from the model ({with} of {} moving joints have some; --no-joint-dynamics for rigid-body dynamics only)",
         model.moving_joints().count()
     )
+}
+
+/// Every excursion of a limited coordinate beyond its position limits during a run.
+struct LimitLog {
+    /// Per limited coordinate: `(idx_q, lower, upper, joint)`.
+    coordinates: Vec<(usize, f64, f64, usize)>,
+    /// Per limited coordinate: `(first time out, steps out, largest excess, value at it)`.
+    out: Vec<Option<(f64, usize, f64, f64)>>,
+}
+
+impl LimitLog {
+    fn new(model: &kinetree::model::Model, q0: &[f64]) -> Self {
+        let coordinates: Vec<_> = limited_coordinates(model)
+            .map(|(iq, _, lo, hi, j)| (iq, lo, hi, j))
+            .collect();
+        let mut log = Self {
+            out: vec![None; coordinates.len()],
+            coordinates,
+        };
+        log.record(0.0, q0);
+        log
+    }
+
+    /// Notes every coordinate of `q` outside its limits at time `t`.
+    fn record(&mut self, t: f64, q: &[f64]) {
+        for (&(iq, lo, hi, _), out) in self.coordinates.iter().zip(&mut self.out) {
+            let excess = (lo - q[iq]).max(q[iq] - hi);
+            if excess > 0.0 {
+                let entry = out.get_or_insert((t, 0, 0.0, q[iq]));
+                entry.1 += 1;
+                if excess > entry.2 {
+                    (entry.2, entry.3) = (excess, q[iq]);
+                }
+            }
+        }
+    }
+
+    /// Prints one line per coordinate that left its limits (or that none did).
+    fn print(&self, model: &kinetree::model::Model, limit_model: LimitModel, dissipated: f64) {
+        let count = self.out.iter().flatten().count();
+        match limit_model {
+            LimitModel::InelasticStop => println!(
+                "joint limits: inelastic hard stops (--joint-limits stop); {count} of {} limited coordinates reached a stop, {dissipated:.6e} J dissipated by the stops",
+                self.coordinates.len()
+            ),
+            _ => println!(
+                "joint limits: not enforced (--joint-limits stop adds hard stops); {count} of {} limited coordinates left their limits",
+                self.coordinates.len()
+            ),
+        }
+        for (&(iq, lo, hi, j), out) in self.coordinates.iter().zip(&self.out) {
+            let Some((first, steps, excess, value)) = out else {
+                continue;
+            };
+            let name = &model.joint(j).name;
+            let coordinate = if model.joint_q_range(j).len() > 1 {
+                format!("{name}[{}]", iq - model.joint_q_range(j).start)
+            } else {
+                name.clone()
+            };
+            println!(
+                "  {coordinate:<28} limits [{lo}, {hi}]: out from t = {first:.4} s for {steps} steps, worst {value:.6} ({excess:.3e} beyond)"
+            );
+        }
+    }
 }

@@ -5,5 +5,6 @@ mod common;
 mod derivatives;
 mod errors;
 mod identities;
+mod limits;
 mod reference;
 mod simulation;
