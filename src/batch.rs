@@ -1,15 +1,19 @@
 //! Batch evaluation of many states through JSON: what `kinetree compute` runs, and what the
 //! regression suite checks against Pinocchio.
 //!
-//! Request: `{"samples": [{"q": {...}, "v": {...}, "a": {...}, "tau": {...}}]}` with each map keyed
-//! by joint name: a number for 1-DoF joints (continuous joints by angle), an array for multi-DoF
-//! joints (the floating `root_joint`: q = [x, y, z, qx, qy, qz, qw], v/a/tau = [linear; angular]
-//! in the base frame). `v`, `a`, `tau` are optional. A sample may also wrap these maps in a
-//! `"state"` object, so a reference file's samples can be fed straight in.
+//! Request: `{"samples": [{"name": "…", "q": {...}, "v": {...}, "a": {...}, "tau": {...}}]}` with
+//! each map keyed by joint name: a number for 1-DoF joints (continuous joints by angle), an array
+//! for multi-DoF joints (the floating `root_joint`: q = [x, y, z, qx, qy, qz, qw], v/a/tau =
+//! [linear; angular] in the base frame). A joint left out of `q` is at its neutral value, and of
+//! `v`/`a`/`tau` at zero, as everywhere else in kinetree ([`BatchOptions::strict`] requires every
+//! joint instead); `q` may be left out altogether. `v`, `a`, `tau` are optional: a quantity that
+//! needs one is computed only when it is given. A sample may also wrap these maps in a `"state"`
+//! object, so a reference file's samples can be fed straight in.
 //!
 //! Response: `{"model": {"name", "nq", "nv", "joints": [{"name", "type", "idx_q", "idx_v", "nq",
-//! "nv"}]}, "samples": [{"link_poses": {link: {"translation": [3], "rotation": 3x3 row-major}},
-//! "jacobians": {link: 6 x nv, LocalWorldAligned, columns in the model's v order}, …}]}`.
+//! "nv"}]}, "samples": [{"name", "link_poses": {link: {"translation": [3], "rotation": 3x3
+//! row-major}}, "jacobians": {link: 6 x nv, LocalWorldAligned, columns in the model's v order},
+//! …}]}`. A sample's `name` (any JSON value) is copied to its result when it has one.
 //!
 //! With the `dynamics` feature each sample also gets what its inputs allow: always
 //! `gravity_torque`, `mass_matrix` (nv x nv, row-major), `com`, `total_mass`, `potential_energy`;
@@ -19,7 +23,7 @@
 //! `null`, with an `errors` entry saying why; the rest of the sample is still computed.
 
 use crate::Error;
-use crate::kinematics::configuration::{Space, from_named};
+use crate::kinematics::configuration::{Space, from_named, neutral_configuration};
 use crate::kinematics::spatial::Motion;
 use crate::kinematics::{
     FrameId, KinematicsData, KinematicsError, ReferenceFrame, compute_joint_jacobians,
@@ -35,6 +39,9 @@ pub struct BatchOptions {
     pub jacobians: Vec<String>,
     /// Skip the dynamics quantities even when the inputs allow them.
     pub no_dynamics: bool,
+    /// Require a value for every moving joint in each given `q`, `v`, `a`, `tau` (and a `q` in
+    /// every sample); by default a joint left out is neutral (`q`) or zero.
+    pub strict: bool,
     /// Add the joints' damping, friction and armature from the model to the dynamics
     /// ([`JointTerms::FromModel`](crate::dynamics::JointTerms::FromModel)). Off by default: the
     /// rigid-body quantities, as Pinocchio (and its reference data) computes them.
@@ -77,13 +84,14 @@ fn numbers(joint: &str, value: &Value) -> Result<Vec<f64>, Error> {
     }
 }
 
-/// A named-state map (`{"joint": value, …}`) turned into a vector in the model's order.
-/// Every moving joint must be present; unknown names are errors.
+/// A named-state map (`{"joint": value, …}`) turned into a vector in the model's order: joints
+/// left out are neutral (`q`) or zero, or an error when `strict`; unknown names are errors.
 fn state_vector(
     model: &Model,
     map: &Value,
     key: &'static str,
     velocity: bool,
+    strict: bool,
 ) -> Result<Vec<f64>, Error> {
     let map = map
         .as_object()
@@ -97,10 +105,10 @@ fn state_vector(
     } else {
         Space::Configuration
     };
-    Ok(from_named(model, space, values, true)?)
+    Ok(from_named(model, space, values, strict)?)
 }
 
-/// The named inputs of one request sample (`q` required; `v`, `a`, `tau` optional).
+/// The inputs of one request sample in the model's order (`v`, `a`, `tau` only when given).
 #[derive(Clone, Debug)]
 pub struct SampleInput {
     /// Configuration (length nq).
@@ -113,29 +121,45 @@ pub struct SampleInput {
     pub tau: Option<Vec<f64>>,
 }
 
-/// Parses one sample of a request.
+/// Parses one sample of a request; a joint left out is neutral (`q`) or zero (`v`, `a`, `tau`).
 ///
 /// # Errors
-/// [`Error::Batch`] for a malformed sample or a missing joint; [`Error::Kinematics`] for unknown
-/// joints and wrong value counts.
+/// [`Error::Batch`] for a malformed sample; [`Error::Kinematics`] for unknown joints and wrong
+/// value counts.
 pub fn parse_sample(model: &Model, sample: &Value) -> Result<SampleInput, Error> {
+    parse_sample_with(model, sample, false)
+}
+
+/// [`parse_sample`], or with `strict` every moving joint required in `q` (which must be given)
+/// and in each of `v`, `a`, `tau` that is given.
+///
+/// # Errors
+/// As [`parse_sample`]; with `strict`, [`Error::Batch`] for a missing `q` and
+/// [`Error::Kinematics`] naming a missing joint.
+pub fn parse_sample_with(
+    model: &Model,
+    sample: &Value,
+    strict: bool,
+) -> Result<SampleInput, Error> {
     let state = if sample.get("state").is_some_and(Value::is_object) {
         &sample["state"]
     } else {
         sample
     };
-    let q = state
-        .get("q")
-        .ok_or_else(|| Error::Batch("a sample has no 'q'".into()))?;
+    let q = match state.get("q").filter(|q| !q.is_null()) {
+        Some(q) => state_vector(model, q, "q", false, strict)?,
+        None if strict => return Err(Error::Batch("a sample has no 'q'".into())),
+        None => neutral_configuration(model),
+    };
     let opt = |key: &'static str| -> Result<Option<Vec<f64>>, Error> {
         state
             .get(key)
             .filter(|v| !v.is_null())
-            .map(|m| state_vector(model, m, key, true))
+            .map(|m| state_vector(model, m, key, true, strict))
             .transpose()
     };
     Ok(SampleInput {
-        q: state_vector(model, q, "q", false)?,
+        q,
         v: opt("v")?,
         a: opt("a")?,
         tau: opt("tau")?,
@@ -184,8 +208,8 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
     );
     let mut out = Vec::with_capacity(samples.len());
     for (i, sample) in samples.iter().enumerate() {
-        let input =
-            parse_sample(model, sample).map_err(|e| Error::Batch(format!("sample {i}: {e}")))?;
+        let input = parse_sample_with(model, sample, options.strict)
+            .map_err(|e| Error::Batch(format!("sample {i}: {e}")))?;
         compute_joint_jacobians(model, &mut data, &input.q)?;
         let mut poses = Map::new();
         for (l, link) in model.links().iter().enumerate() {
@@ -207,6 +231,9 @@ pub fn evaluate(model: &Model, request: &Value, options: &BatchOptions) -> Resul
             jacobians.insert(name.clone(), json!(jacobian_to_rows(&jac)));
         }
         let mut s = Map::new();
+        if let Some(name) = sample.get("name") {
+            s.insert("name".into(), name.clone());
+        }
         s.insert("link_poses".into(), Value::Object(poses));
         if !jacobians.is_empty() {
             s.insert("jacobians".into(), Value::Object(jacobians));

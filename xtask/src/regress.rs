@@ -126,6 +126,7 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
         no_dynamics: false,
         // The reference ignores URDF <dynamics> damping and friction, as Pinocchio does.
         joint_dynamics: false,
+        strict: true,
         // Collision is compared where the reference has it (primitive geometry, no meshes).
         collision: reference["samples"][0]["collision"]
             .is_array()

@@ -25,7 +25,9 @@ enum Command {
     Inspect(cmd::inspect::Args),
     /// Convert a model between URDF and JSON (formats chosen by the file extensions).
     Convert(cmd::convert::Args),
-    /// Evaluate many named states at once (link poses, Jacobians) from a JSON file.
+    /// Evaluate many named states at once from a JSON file: link poses, Jacobians, dynamics
+    /// quantities and collision distances.
+    #[command(after_long_help = cmd::compute::WHAT_IT_COMPUTES)]
     Compute(cmd::compute::Args),
     /// Time each algorithm on random in-limit states of a model (median ns/call).
     Bench(cmd::bench::Args),

@@ -477,16 +477,100 @@ fn simulate_uses_joint_dynamics_by_default_and_says_so() {
 }
 
 #[test]
-fn compute_names_a_missing_or_unknown_joint() {
+fn compute_names_a_missing_joint_when_strict_and_an_unknown_joint_always() {
     let states = scratch("compute-bad").join("states.json");
     std::fs::write(&states, r#"{"samples": [{"q": {"panda_joint1": 0.1}}]}"#).unwrap();
-    let o = kinetree(&["compute", &panda(), "--states", states.to_str().unwrap()]);
+    let o = kinetree(&[
+        "compute",
+        &panda(),
+        "--states",
+        states.to_str().unwrap(),
+        "--strict",
+    ]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("panda_joint2"), "{}", stderr(&o));
+    std::fs::write(&states, r#"{"samples": [{"v": {"panda_joint1": 0.1}}]}"#).unwrap();
+    let o = kinetree(&[
+        "compute",
+        &panda(),
+        "--states",
+        states.to_str().unwrap(),
+        "--strict",
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("'q'"),
+        "{}",
+        stderr(&o)
+    );
     std::fs::write(&states, r#"{"samples": [{"q": {"elbow": 0.1}}]}"#).unwrap();
     let o = kinetree(&["compute", &panda(), "--states", states.to_str().unwrap()]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("elbow"), "{}", stderr(&o));
+}
+
+/// Joints left out are neutral (q) or zero (v, a), as in the other commands; names are kept;
+/// and `--help` documents every key of the output.
+#[test]
+fn compute_defaults_omitted_joints_keeps_names_and_documents_every_key() {
+    let dir = scratch("compute-defaults");
+    let states = dir.join("states.json");
+    let neutral = r#"{"panda_joint1": 0.1, "panda_joint2": 0, "panda_joint3": 0, "panda_joint4": 0,
+        "panda_joint5": 0, "panda_joint6": 0, "panda_joint7": 0, "panda_finger_joint1": 0,
+        "panda_finger_joint2": 0}"#;
+    let zero = r#"{"panda_joint1": 0, "panda_joint2": 0, "panda_joint3": 0, "panda_joint4": 0,
+        "panda_joint5": 0, "panda_joint6": 0, "panda_joint7": 0, "panda_finger_joint1": 0,
+        "panda_finger_joint2": 0}"#;
+    std::fs::write(
+        &states,
+        format!(
+            r#"{{"samples": [
+            {{"name": "short", "q": {{"panda_joint1": 0.1}}, "v": {{"panda_joint2": 0.5}}, "a": {{}}, "tau": {{}}}},
+            {{"name": {{"id": 7}}, "q": {neutral}, "v": {zero}, "a": {zero}, "tau": {zero}}},
+            {{"v": {{}}}}
+        ]}}"#
+        ),
+    )
+    .unwrap();
+    let o = kinetree(&[
+        "compute",
+        &panda(),
+        "--states",
+        states.to_str().unwrap(),
+        "--jacobians",
+        "panda_hand",
+        "--collision",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let samples = out["samples"].as_array().unwrap();
+    assert_eq!(samples[0]["name"], "short");
+    assert_eq!(samples[1]["name"]["id"], 7);
+    assert!(samples[2].get("name").is_none());
+    // The short sample equals the spelled-out one where their inputs agree (q, a, tau; v differs).
+    for key in [
+        "link_poses",
+        "jacobians",
+        "mass_matrix",
+        "gravity_torque",
+        "com",
+    ] {
+        assert_eq!(samples[0][key], samples[1][key], "{key}");
+    }
+    assert_ne!(samples[0]["nle"], samples[1]["nle"]);
+    // q left out: the neutral configuration, whose hand sits where the spelled-out sample's
+    // does with joint 1 at 0 (a rotation about the base z axis by 0.1 rad).
+    let hand = |s: &serde_json::Value| flat(&s["link_poses"]["panda_hand"]["translation"]);
+    let (a, b) = (hand(&samples[2]), hand(&samples[1]));
+    let r = (a[0] * a[0] + a[1] * a[1]).sqrt();
+    assert!((r - (b[0] * b[0] + b[1] * b[1]).sqrt()).abs() < 1e-12 && (a[2] - b[2]).abs() < 1e-12);
+    assert!(a[1].abs() < 1e-12 && (b[1] - r * 0.1f64.sin()).abs() < 1e-12);
+    // Every key of a sample (and of the model block) is named in --help.
+    let help = stdout(&kinetree(&["compute", "--help"]));
+    let mut keys: Vec<&String> = samples[1].as_object().unwrap().keys().collect();
+    keys.extend(out["model"].as_object().unwrap().keys());
+    for key in keys {
+        assert!(help.contains(key.as_str()), "--help does not mention {key}");
+    }
 }
 
 #[test]

@@ -8,6 +8,33 @@ use kinetree::batch::{BatchOptions, evaluate};
 use serde_json::Value;
 use std::path::PathBuf;
 
+/// The part of `kinetree compute --help` that lists every output key.
+pub(crate) const WHAT_IT_COMPUTES: &str = "\
+Input: {\"samples\": [{\"name\": ..., \"q\": {joint: value}, \"v\": {...}, \"a\": {...}, \"tau\": {...}}]}
+(or the same maps inside \"state\", as in a Pinocchio reference file). A joint left out of q is at
+its neutral value and of v, a, tau at zero (--strict requires every joint); q may be left out.
+
+Output: {\"model\": {name, nq, nv, joints: [{name, type, idx_q, idx_v, nq, nv}]}, \"samples\": [...]}
+with, per sample (vectors in the model's v order, matrices row-major):
+  name               the sample's name, when it has one
+  link_poses         every link: translation [3] (m), rotation 3x3 (world frame)
+  jacobians          each --jacobians link or frame: 6 x nv, LocalWorldAligned, [linear; angular]
+  gravity_torque     g(q) (N·m or N)
+  mass_matrix        M(q), nv x nv
+  com                centre of mass of the moving bodies (m), null for a massless model
+  total_mass         kg
+  potential_energy   J
+  nle                with v: C(q, v)·v + g(q)
+  kinetic_energy     with v: J
+  centroidal_momentum  with v: [linear; angular] about the centre of mass
+  rnea               with v and a: τ = M·a + C·v + g
+  aba                with v and tau: q̈ = M⁻¹·(τ - C·v - g), null when M is singular
+  by_joint           gravity_torque, nle, rnea, aba again, keyed by joint name
+  errors             why a quantity is null
+  collision          with --collision: [{link_a, link_b, distance}] per candidate pair (m; < 0 = penetration)
+Dynamics are rigid-body (as Pinocchio's) unless --joint-dynamics adds the URDF's damping,
+friction and armature.";
+
 /// Arguments of `kinetree compute`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct Args {
@@ -30,6 +57,10 @@ pub(crate) struct Args {
     /// The old spelling of the default (rigid-body dynamics), still accepted.
     #[arg(long, hide = true, conflicts_with = "joint_dynamics")]
     ignore_joint_dynamics: bool,
+    /// Require every moving joint in each sample's q (and in v, a, tau when given), as before
+    /// the defaults existed; by default a joint left out is neutral (q) or zero.
+    #[arg(long)]
+    strict: bool,
     /// Add `collision` to each sample: the minimum signed distance of every candidate link pair.
     #[arg(long)]
     collision: bool,
@@ -55,6 +86,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let options = BatchOptions {
         jacobians: args.jacobians.clone(),
         no_dynamics: false,
+        strict: args.strict,
         joint_dynamics: args.joint_dynamics,
         collision: args.collision.then(|| {
             let mut o = kinetree::collision::CollisionOptions::default()
