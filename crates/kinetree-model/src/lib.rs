@@ -49,6 +49,16 @@
 //!
 //! ## Optional cargo features
 //! None: URDF (urdf-rs) and JSON (serde) support are always built.
+//!
+//! ## Modules
+//! - `model`: [`Model`] (links, joints, frames, the moving-body tree, `q`/`v` layout);
+//!   `builder`: [`ModelBuilder`], which checks a whole tree and reports every problem at once;
+//!   `link`, `joint`, `frame`: the items a model is made of; `error`: [`ModelError`] and
+//!   [`Issue`]; `compare`: structural comparison of two models.
+//! - [`urdf`]: URDF import (`urdf/read.rs`) and export (`urdf/write.rs`).
+//! - [`json`]: kinetree's JSON schema (`json/schema.rs`), import (`json/read.rs`) and export
+//!   (`json/write.rs`); [`units`]: the length and angle units of model files.
+//! - [`dh`]: Denavit–Hartenberg tables; [`samples`]: ready-made models.
 
 mod builder;
 mod compare;
@@ -60,15 +70,16 @@ pub mod json;
 mod link;
 mod model;
 pub mod samples;
-mod urdf;
-pub mod urdf_export;
+pub mod units;
+pub mod urdf;
 
 pub use builder::{FrameSpec, INERTIA_TOLERANCE, InertiaCheck, JointSpec, ModelBuilder};
 pub use error::{Issue, ItemKind, ModelError};
 pub use frame::Frame;
 pub use joint::{Joint, JointDynamics, JointKind, JointLimits, Mimic, plane_basis};
-pub use json::{AngleUnit, DatumExport, JSON_SCHEMA_VERSION, JsonOptions, LengthUnit, Units};
+pub use json::{DatumExport, JSON_SCHEMA_VERSION, JsonOptions};
 pub use kinetree_spatial as spatial;
 pub use link::{Collision, Geometry, Inertial, Link, LinkMetadata, Visual};
 pub use model::{Body, BodyMimic, MimicMode, Model, ROOT_JOINT_NAME, RootJoint};
+pub use units::{AngleUnit, LengthUnit, Units};
 pub use urdf::LoadOptions;

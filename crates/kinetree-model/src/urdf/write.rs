@@ -1,18 +1,4 @@
-//! URDF export: [`Model::to_urdf_string`].
-//!
-//! The XML is written by hand (urdf-rs's writer drops infinite limits, which URDF 1.0 readers then
-//! take as zero), so that loading the output with [`Model::from_urdf_str`] gives the same model:
-//! the same links, joints, placements (to round-off of the roll-pitch-yaw conversion), limits,
-//! geometry and mimic tags, with `package://` and other mesh names exactly as written.
-//!
-//! What URDF cannot hold is left out: the floating root joint (a load option, not part of the
-//! file), named frames, link metadata, joint armature, gravity, and position limits on joint
-//! kinds that URDF gives none (fixed, continuous, floating, planar, spherical). Cylindrical joints
-//! cannot be expressed at all and are an error.
-//!
-//! The file declares URDF 1.0 unless a limit is unbounded (a revolute or prismatic joint without
-//! position bounds, or a joint without velocity or effort limit): URDF 1.0 has no way to say
-//! so, and the file then declares version 1.2, in which an omitted limit means "none".
+//! URDF export: the XML written by hand (see the [module docs](super)).
 
 use crate::error::ModelError;
 use crate::joint::{Joint, JointKind};
@@ -138,7 +124,7 @@ fn limit(out: &mut String, j: &Joint, v1_2: bool) {
 
 impl Model {
     /// Writes the model as a URDF document that [`Model::from_urdf_str`] reads back to the same
-    /// model (see the [module docs](crate::urdf_export) for what URDF cannot hold).
+    /// model (see the [module docs](crate::urdf) for what URDF cannot hold).
     ///
     /// # Errors
     /// [`ModelError::UnsupportedJoint`] naming the first cylindrical joint.

@@ -1,19 +1,5 @@
-//! URDF import through urdf-rs.
-//!
-//! The XML is first scanned with quick-xml so that malformed files are reported with a line and
-//! column, and so that elements kinetree does not model (transmissions, gazebo tags, calibration,
-//! safety controllers, textures, …) are reported by [`Model::ignored`] instead of being dropped
-//! silently.
-//!
-//! Real files are repaired rather than rejected where the intent is clear:
-//! - `<texture>` elements are removed before urdf-rs sees them (urdf-rs rejects a `<texture/>`
-//!   without `filename`, which iCub and Romeo carry) and listed in [`Model::ignored`];
-//! - a `<robot>` without links loads as the empty model;
-//! - a `<mimic>` naming a joint that does not exist is dropped and reported in
-//!   [`Model::warnings`] as [`Issue::UnknownMimicTarget`]: kinetree treats mimic joints as
-//!   independent degrees of freedom (as Pinocchio does), so the tag carries no information the
-//!   model needs. [`ModelBuilder::build`](crate::ModelBuilder::build) used directly still rejects
-//!   an unknown mimic target.
+//! URDF import: the text is scanned for errors and ignored elements, then converted through
+//! urdf-rs (see the [module docs](super)).
 
 use crate::builder::{InertiaCheck, JointSpec, ModelBuilder};
 use crate::error::{Issue, ModelError};
