@@ -2,7 +2,8 @@
 //!
 //! The kinematics layer of kinetree: forward kinematics ([`forward_kinematics`]), link and frame
 //! placements, joint and frame Jacobians in three reference frames ([`ReferenceFrame`]) and their
-//! time derivatives, and configuration-space operations ([`configuration`]). It sits on
+//! time derivatives, their analytic [`derivatives`] with respect to `q`, `v` and `a`, and
+//! configuration-space operations ([`configuration`]). It sits on
 //! `kinetree-model`; the dynamics and collision layers sit on it.
 //!
 //! Algorithms are plain functions over `(&Model, &mut KinematicsData, inputs)`. A
@@ -51,16 +52,22 @@
 mod chain;
 pub mod configuration;
 mod data;
+pub mod derivatives;
 mod error;
 mod forward;
 mod group;
 pub mod ik;
 mod jacobian;
 mod joint_model;
+pub mod lie_jacobians;
 pub mod reachable;
 
 pub use chain::{Chain, ChainStats};
 pub use data::{FrameId, KinematicsData};
+pub use derivatives::{
+    KinematicsDerivativesData, frame_acceleration_derivatives, frame_jacobian_derivatives,
+    frame_velocity_derivatives,
+};
 pub use error::GroupProblem;
 pub use error::KinematicsError;
 pub use forward::{
@@ -79,3 +86,4 @@ pub use jacobian::{
 pub use joint_model::JointModel;
 pub use kinetree_model as model;
 pub use kinetree_model::spatial;
+pub use lie_jacobians::{difference_jacobians, integrate_jacobians};

@@ -5,13 +5,17 @@
 //! as many calls; this is repeated `--repetitions` times and the median ns/call is
 //! printed. With `--json` the output is
 //! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians",
-//! "rnea", "nle", "crba", "aba", "minv", "collision_any", "collision_distances"}}` (the collision keys
+//! "rnea", "nle", "crba", "aba", "minv", "rnea_derivatives", "aba_derivatives", "collision_any",
+//! "collision_distances"}}` (the collision keys
 //! only for models with collision geometry; meshes are looked up next to the model file and
 //! skipped when missing); the keys stay stable so scripts can compare runs.
 //! Velocities, accelerations and torques are drawn uniformly in [-1, 1].
 
 use anyhow::Result;
-use kinetree::dynamics::{DynamicsData, aba, crba, mass_matrix_inverse, nonlinear_effects, rnea};
+use kinetree::dynamics::{
+    DerivativesData, DynamicsData, aba, aba_derivatives, crba, mass_matrix_inverse,
+    nonlinear_effects, rnea, rnea_derivatives,
+};
 use kinetree::kinematics::configuration::random_configuration;
 use kinetree::kinematics::spatial::Motion;
 use kinetree::kinematics::{
@@ -165,6 +169,26 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         "minv",
         time(calls, reps, |i| {
             let _ = black_box(mass_matrix_inverse(&model, &mut dd, black_box(q(i))).map(|m| m[0]));
+        }),
+    ));
+
+    let mut derivatives = DerivativesData::new(&model);
+    results.push((
+        "rnea_derivatives",
+        time(calls, reps, |i| {
+            let _ = black_box(
+                rnea_derivatives(&model, &mut derivatives, black_box(q(i)), x(i), y(i))
+                    .map(|d| d.dtau_dq[0]),
+            );
+        }),
+    ));
+    results.push((
+        "aba_derivatives",
+        time(calls, reps, |i| {
+            let _ = black_box(
+                aba_derivatives(&model, &mut derivatives, black_box(q(i)), x(i), y(i))
+                    .map(|d| d.dddq_dq[0]),
+            );
         }),
     ));
 

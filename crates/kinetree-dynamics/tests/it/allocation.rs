@@ -103,6 +103,10 @@ fn hot_paths_do_not_allocate() {
 
 #[test]
 fn derivatives_do_not_allocate() {
+    use kinetree_dynamics::kinematics::{
+        KinematicsDerivativesData, difference_jacobians, frame_acceleration_derivatives,
+        frame_jacobian_derivatives, frame_velocity_derivatives, integrate_jacobians,
+    };
     use kinetree_dynamics::{
         DerivativesData, aba_derivatives, aba_derivatives_with_external_forces,
         generalized_gravity_derivatives, rnea_derivatives, rnea_derivatives_with_external_forces,
@@ -113,6 +117,11 @@ fn derivatives_do_not_allocate() {
         let mut fext = ExternalForces::new(&model);
         let last = FrameId::Link(model.links().len() - 1);
         let tau = vec![0.1; model.nv()];
+        let nv = model.nv();
+        let mut kd = KinematicsDerivativesData::new(&model);
+        let mut m = vec![vec![0.0; 6 * nv]; 4];
+        let mut hessian = vec![0.0; 6 * nv * nv];
+        let (mut j0, mut j1) = (vec![0.0; nv * nv], vec![0.0; nv * nv]);
         let count = allocations_during(|| {
             for _ in 0..3 {
                 fext.clear();
@@ -123,7 +132,20 @@ fn derivatives_do_not_allocate() {
                 ] {
                     fext.add(&model, last, reference, Force::new(DVec3::X, DVec3::Y))
                         .unwrap();
+                    let [m0, m1, m2, m3] = &mut m[..] else {
+                        unreachable!()
+                    };
+                    frame_velocity_derivatives(&model, &mut kd, &q, &v, last, reference, m0, m1)
+                        .unwrap();
+                    frame_acceleration_derivatives(
+                        &model, &mut kd, &q, &v, &a, last, reference, m0, m1, m2, m3,
+                    )
+                    .unwrap();
+                    frame_jacobian_derivatives(&model, &mut kd, &q, last, reference, &mut hessian)
+                        .unwrap();
                 }
+                integrate_jacobians(&model, &q, &v, &mut j0, &mut j1).unwrap();
+                difference_jacobians(&model, &q, &q, &mut j0, &mut j1).unwrap();
                 rnea_derivatives(&model, &mut data, &q, &v, &a).unwrap();
                 rnea_derivatives_with_external_forces(&model, &mut data, &q, &v, &a, &fext)
                     .unwrap();

@@ -5,6 +5,7 @@ mod common;
 mod derivatives;
 mod errors;
 mod identities;
+mod kinematics_derivatives;
 mod limits;
 mod reference;
 mod simulation;
