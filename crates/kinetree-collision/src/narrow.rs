@@ -8,6 +8,7 @@
 use glam::DVec3;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
+use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::epa::EPA;
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints, Unsupported, details};
@@ -179,8 +180,11 @@ pub(crate) fn proximity(
                 (a.shape.as_support_map(), b.shape.as_support_map())
             {
                 support(&pos12, s1, s2, max_dist, scratch)
+            } else if let Some(w) = mesh_convex(a, b, max_dist, scratch) {
+                // A triangle mesh against a convex shape: the crate's per-triangle queries.
+                return Ok(w);
             } else {
-                // Composite shapes (triangle meshes): parry's generic queries.
+                // Two triangle meshes (or other composites): parry's generic queries.
                 return composite(a, b, max_dist);
             }
         }
@@ -271,6 +275,91 @@ where
         }
         GJKResult::NoIntersection(_) | GJKResult::Proximity(_) => None,
     }
+}
+
+/// A triangle mesh against a convex shape (either order), triangle by triangle with the crate's
+/// GJK/EPA; `None` when neither or both are meshes, or the other shape has no support map.
+///
+/// parry's own composite query is not used here: its box–triangle closest points report a
+/// vertex-to-vertex distance for face-to-face configurations, and its best-first traversal with
+/// a zero margin visits no triangle (so overlaps were missed by the collision lists).
+///
+/// Penetration: the deepest of the triangles the convex shape overlaps (a triangle mesh is a
+/// surface; a shape wholly inside it does not touch it). Separation: the closest triangle.
+fn mesh_convex(
+    a: Posed<'_>,
+    b: Posed<'_>,
+    max_dist: f64,
+    scratch: &mut Scratch,
+) -> Option<Option<Witness>> {
+    let (mesh, other, flipped) = match (a.shape.as_trimesh(), b.shape.as_trimesh()) {
+        (Some(m), None) => (m, b, false),
+        (None, Some(m)) => (m, a, true),
+        _ => return None,
+    };
+    let mesh_pose = if flipped { b.pose } else { a.pose };
+    let convex = other.shape.as_support_map()?;
+    // The convex shape in the mesh's frame.
+    let pos12 = mesh_pose.inv_mul(other.pose);
+    let aabb = other.shape.compute_aabb(&pos12);
+    let bvh = mesh.bvh();
+    // Triangles whose boxes overlap the shape's box: the only ones that can penetrate it.
+    let mut best: Option<Local> = None;
+    for id in bvh.intersect_aabb(&aabb) {
+        let tri = mesh.triangle(id);
+        if let Some(local) = support(&pos12, &tri, convex, f64::INFINITY, scratch) {
+            if local.3 < 0.0 && best.is_none_or(|b| local.3 < b.3) {
+                best = Some(local);
+            }
+        }
+    }
+    if best.is_none() {
+        // Separated (or touching): the closest triangle, best-first through the BVH. The margin
+        // is kept positive because the traversal only visits boxes strictly below it.
+        let margin = if max_dist > 0.0 { max_dist } else { 1e-12 };
+        let msum_shift = -aabb.center();
+        let msum_margin = aabb.half_extents();
+        let scratch = core::cell::RefCell::new(&mut *scratch);
+        best = bvh
+            .find_best(
+                margin,
+                |node: &BvhNode, _| {
+                    Aabb {
+                        mins: node.mins() + msum_shift - msum_margin,
+                        maxs: node.maxs() + msum_shift + msum_margin,
+                    }
+                    .distance_to_origin()
+                },
+                |id, _| {
+                    let tri = mesh.triangle(id);
+                    support(&pos12, &tri, convex, margin, &mut scratch.borrow_mut())
+                        .map(|local| (local.3, local))
+                },
+            )
+            .map(|(_, (_, local))| local);
+    }
+    let (p1, p2, n, distance) = best.filter(|l| l.3 <= max_dist)?;
+    // Back to the world frame, from the first shape to the second.
+    let (pm, po, n) = (
+        mesh_pose.transform_point(p1),
+        mesh_pose.transform_point(p2),
+        mesh_pose.rotation * n,
+    );
+    Some(Some(if flipped {
+        Witness {
+            distance,
+            point_a: po,
+            point_b: pm,
+            normal: -n,
+        }
+    } else {
+        Witness {
+            distance,
+            point_a: pm,
+            point_b: po,
+            normal: n,
+        }
+    }))
 }
 
 fn composite(a: Posed<'_>, b: Posed<'_>, max_dist: f64) -> Result<Option<Witness>, Unsupported> {

@@ -3,6 +3,7 @@
 mod allocation;
 mod common;
 mod hand;
+mod mesh_primitives;
 mod meshes;
 mod reference;
 mod srdf;
