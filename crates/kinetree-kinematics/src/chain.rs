@@ -3,7 +3,7 @@
 
 use crate::configuration::{neutral_configuration, set_joint_q};
 use crate::data::{FrameId, KinematicsData};
-use crate::error::{KinematicsError, check_vector};
+use crate::error::{KinematicsError, check_q};
 use kinetree_model::spatial::Se3;
 use kinetree_model::{JointKind, JsonOptions, Model};
 
@@ -174,7 +174,7 @@ impl Chain {
     /// [`KinematicsError::DimensionMismatch`] or [`KinematicsError::NonFinite`] for a bad `q`; the
     /// chain is unchanged.
     pub fn set_q(&mut self, q: &[f64]) -> Result<(), KinematicsError> {
-        check_vector("q", q, self.model.nq())?;
+        check_q(&self.model, "q", q)?;
         for i in 1..self.model.nbodies() {
             let b = &self.model.bodies()[i];
             let r = b.idx_q..b.idx_q + b.nq;

@@ -15,7 +15,7 @@
 //! (or with `lower == upper`, e.g. placeholder URDF limits) sample angles in [-π, π] and
 //! translations in [-1, 1] m; rotations of spherical and floating joints are uniform on SO(3).
 
-use crate::error::{KinematicsError, check_vector};
+use crate::error::{KinematicsError, check_q, check_vector};
 use crate::joint_model::quat;
 use glam::{DQuat, DVec3};
 use kinetree_model::spatial::{Motion, Se3, explog, rotation};
@@ -198,7 +198,7 @@ pub fn integrate(
     v: &[f64],
     q_out: &mut [f64],
 ) -> Result<(), KinematicsError> {
-    check_vector("q", q, model.nq())?;
+    check_q(model, "q", q)?;
     check_vector("v", v, model.nv())?;
     check_len("q_out", q_out, model.nq())?;
     for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {
@@ -259,8 +259,8 @@ pub fn difference(
     q1: &[f64],
     v_out: &mut [f64],
 ) -> Result<(), KinematicsError> {
-    check_vector("q0", q0, model.nq())?;
-    check_vector("q1", q1, model.nq())?;
+    check_q(model, "q0", q0)?;
+    check_q(model, "q1", q1)?;
     check_len("v_out", v_out, model.nv())?;
     for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {
         difference_joint(
@@ -293,8 +293,8 @@ pub fn interpolate(
     t: f64,
     q_out: &mut [f64],
 ) -> Result<(), KinematicsError> {
-    check_vector("q0", q0, model.nq())?;
-    check_vector("q1", q1, model.nq())?;
+    check_q(model, "q0", q0)?;
+    check_q(model, "q1", q1)?;
     check_len("q_out", q_out, model.nq())?;
     // Per joint, without a scratch buffer: integrate(q0, t · difference(q0, q1)).
     let mut v = [0.0f64; 6];
@@ -310,6 +310,19 @@ pub fn interpolate(
     Ok(())
 }
 
+/// Checks that `q` is a configuration of `model`: length `nq`, finite, and every quaternion
+/// (spherical and floating joints) of norm within
+/// [`QUATERNION_NORM_TOLERANCE`](crate::QUATERNION_NORM_TOLERANCE) of 1. Every algorithm taking
+/// a configuration runs this check; a quaternion within the tolerance is normalized where it is
+/// used. Allocates nothing unless it fails.
+///
+/// # Errors
+/// [`KinematicsError::DimensionMismatch`], [`KinematicsError::NonFinite`],
+/// [`KinematicsError::NonUnitQuaternion`] (naming the joint and the norm).
+pub fn check_configuration(model: &Model, q: &[f64]) -> Result<(), KinematicsError> {
+    check_q(model, "q", q)
+}
+
 /// Normalizes the quaternions of spherical and floating joints in place.
 ///
 /// # Errors
@@ -323,7 +336,7 @@ pub fn normalize(model: &Model, q: &mut [f64]) -> Result<(), KinematicsError> {
             JointKind::Floating => b.idx_q + 3,
             _ => continue,
         };
-        let n = quat(&q[start..start + 4]).length();
+        let n = crate::error::quaternion_norm(&q[start..start + 4]);
         if !(n.is_finite() && n > 0.0) {
             return Err(KinematicsError::NonFinite {
                 what: "q (quaternion)",
@@ -376,8 +389,8 @@ pub fn is_within_limits(model: &Model, q: &[f64], tolerance: f64) -> Result<bool
 /// # Errors
 /// Length or finiteness errors for `q0`, `q1`.
 pub fn distance(model: &Model, q0: &[f64], q1: &[f64]) -> Result<f64, KinematicsError> {
-    check_vector("q0", q0, model.nq())?;
-    check_vector("q1", q1, model.nq())?;
+    check_q(model, "q0", q0)?;
+    check_q(model, "q1", q1)?;
     let mut v = [0.0f64; 6];
     let mut sum = 0.0;
     for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {

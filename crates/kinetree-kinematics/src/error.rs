@@ -1,7 +1,12 @@
 //! The kinematics layer's error type.
 
 use core::fmt;
-use kinetree_model::ModelError;
+use kinetree_model::{JointKind, Model, ModelError};
+
+/// How far from 1 the norm of a configuration's quaternion (spherical and floating joints) may
+/// be: within it the quaternion is normalized, beyond it the configuration is refused with
+/// [`KinematicsError::NonUnitQuaternion`].
+pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-6;
 
 /// Everything that can go wrong in the kinematics layer.
 #[derive(Debug, thiserror::Error)]
@@ -27,6 +32,18 @@ pub enum KinematicsError {
         what: &'static str,
         /// The first offending index.
         index: usize,
+    },
+    /// A spherical or floating joint's quaternion in a configuration is further than
+    /// [`QUATERNION_NORM_TOLERANCE`] from unit norm (or zero); within the tolerance it is
+    /// normalized.
+    #[error(
+        "joint '{joint}': the quaternion has norm {norm}, not 1 (accepted within {QUATERNION_NORM_TOLERANCE:e}; normalize it first)"
+    )]
+    NonUnitQuaternion {
+        /// The joint.
+        joint: String,
+        /// The quaternion's norm.
+        norm: f64,
     },
     /// A data object was created for a different model.
     #[error(
@@ -266,4 +283,36 @@ pub(crate) fn check_vector(
         return Err(KinematicsError::NonFinite { what, index });
     }
     Ok(())
+}
+
+/// Checks a configuration: its length, finiteness, and that every quaternion's norm is within
+/// [`QUATERNION_NORM_TOLERANCE`] of 1. Allocates nothing unless it fails.
+pub(crate) fn check_q(model: &Model, what: &'static str, q: &[f64]) -> Result<(), KinematicsError> {
+    check_vector(what, q, model.nq())?;
+    for b in model.bodies().iter().skip(1) {
+        let start = match b.kind {
+            JointKind::Spherical => b.idx_q,
+            JointKind::Floating => b.idx_q + 3,
+            _ => continue,
+        };
+        let norm = quaternion_norm(&q[start..start + 4]);
+        if (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
+            let joint = b
+                .joint
+                .map_or_else(|| "root".to_string(), |j| model.joint(j).name.clone());
+            return Err(KinematicsError::NonUnitQuaternion { joint, norm });
+        }
+    }
+    Ok(())
+}
+
+/// The Euclidean norm of a stored quaternion, scaled first so that huge components do not
+/// overflow the sum of squares.
+pub(crate) fn quaternion_norm(x: &[f64]) -> f64 {
+    let m = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if m > 0.0 && m.is_finite() {
+        m * x.iter().map(|v| (v / m) * (v / m)).sum::<f64>().sqrt()
+    } else {
+        m
+    }
 }

@@ -2,7 +2,7 @@
 //! accelerations.
 
 use crate::data::{FrameId, KinematicsData};
-use crate::error::{KinematicsError, check_vector};
+use crate::error::{KinematicsError, check_q, check_vector};
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
 
@@ -41,7 +41,7 @@ pub fn forward_kinematics(
     q: &[f64],
 ) -> Result<(), KinematicsError> {
     data.check_model(model)?;
-    check_vector("q", q, model.nq())?;
+    check_q(model, "q", q)?;
     placements(model, data, q);
     link_placements(model, data);
     Ok(())
@@ -60,7 +60,7 @@ pub fn forward_kinematics_with_velocity(
     v: &[f64],
 ) -> Result<(), KinematicsError> {
     data.check_model(model)?;
-    check_vector("q", q, model.nq())?;
+    check_q(model, "q", q)?;
     check_vector("v", v, model.nv())?;
     placements(model, data, q);
     let bodies = model.bodies();

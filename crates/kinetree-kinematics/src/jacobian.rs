@@ -5,7 +5,7 @@
 //! row-major matrix.
 
 use crate::data::{FrameId, KinematicsData};
-use crate::error::{KinematicsError, check_vector};
+use crate::error::{KinematicsError, check_q};
 use crate::forward::{forward_kinematics_with_velocity, placements};
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
@@ -147,7 +147,7 @@ pub fn compute_frame_jacobian(
     out: &mut [Motion],
 ) -> Result<(), KinematicsError> {
     data.check_model(model)?;
-    check_vector("q", q, model.nq())?;
+    check_q(model, "q", q)?;
     check_out(out, model.nv())?;
     placements(model, data, q);
     let (body, body_from_frame) = frame.body(model)?;

@@ -308,10 +308,13 @@ fn unit(k: usize) -> DVec3 {
     }
 }
 
-/// The quaternion stored at `q[0..4]` as x, y, z, w (used as stored, not renormalized).
+/// The quaternion stored at `q[0..4]` as x, y, z, w, normalized (the entry checks refuse norms
+/// further than [`QUATERNION_NORM_TOLERANCE`](crate::QUATERNION_NORM_TOLERANCE) from 1, so this
+/// only removes rounding).
 #[inline]
 pub(crate) fn quat(q: &[f64]) -> DQuat {
-    DQuat::from_xyzw(q[0], q[1], q[2], q[3])
+    let r = DQuat::from_xyzw(q[0], q[1], q[2], q[3]);
+    r / r.length()
 }
 
 #[cfg(test)]

@@ -69,7 +69,7 @@ pub use derivatives::{
     frame_velocity_derivatives,
 };
 pub use error::GroupProblem;
-pub use error::KinematicsError;
+pub use error::{KinematicsError, QUATERNION_NORM_TOLERANCE};
 pub use forward::{
     forward_kinematics, forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
     frame_velocity, relative_transform, update_frame_placements,

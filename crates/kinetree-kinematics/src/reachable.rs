@@ -48,7 +48,6 @@
 //! voxel), while a point reported unreachable may still be reachable between samples.
 
 use crate::configuration::{random_configuration, sampling_range};
-use crate::error::check_vector;
 use crate::{
     FrameId, KinematicsData, KinematicsError, ReferenceFrame, compute_frame_jacobian, configuration,
 };
@@ -334,7 +333,7 @@ impl Plan {
         frame.check(model)?;
         let q0 = match &params.q0 {
             Some(q0) => {
-                check_vector("q0", q0, model.nq())?;
+                crate::error::check_q(model, "q0", q0)?;
                 q0.clone()
             }
             None => configuration::neutral_configuration(model),

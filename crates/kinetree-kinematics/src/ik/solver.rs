@@ -457,6 +457,7 @@ impl IkSolver {
     ) -> Result<(), KinematicsError> {
         self.check_model(model)?;
         check_vector("q_posture", q_posture, self.nq)?;
+        crate::error::check_q(model, "q_posture", q_posture)?;
         if !gain.is_finite() {
             return Err(KinematicsError::NonFinite {
                 what: "posture gain",
@@ -556,6 +557,7 @@ impl IkSolver {
         self.check_model(model)?;
         data.check_model(model)?;
         check_vector("q0", q0, self.nq)?;
+        crate::error::check_q(model, "q0", q0)?;
         self.prepare(model, targets)?;
         let Self {
             params,

@@ -1,6 +1,7 @@
 //! Integration tests of the kinematics layer.
 
 mod allocation;
+mod bad_input;
 mod common;
 mod finite_differences;
 mod frame_id;

@@ -1,0 +1,116 @@
+//! Configurations that enter the algorithms: quaternions are normalized within
+//! [`QUATERNION_NORM_TOLERANCE`] and refused beyond it, naming the joint and the norm.
+
+use kinetree_kinematics::configuration::{check_configuration, integrate};
+use kinetree_kinematics::model::{Model, RootJoint};
+use kinetree_kinematics::{
+    FrameId, KinematicsData, KinematicsError, QUATERNION_NORM_TOLERANCE, forward_kinematics,
+};
+
+/// A floating base with a ball joint to an arm of length 1 along x.
+fn floating_ball() -> Model {
+    Model::from_urdf_str(
+        r#"<robot name="r"><link name="base"/><link name="arm"/><link name="hand"/>
+           <joint name="ball" type="floating"><parent link="base"/><child link="arm"/></joint>
+           <joint name="wrist" type="fixed"><parent link="arm"/><child link="hand"/>
+             <origin xyz="1 0 0"/></joint></robot>"#,
+        RootJoint::Floating,
+    )
+    .unwrap()
+}
+
+fn hand(model: &Model, q: &[f64]) -> Result<[f64; 3], KinematicsError> {
+    let mut data = KinematicsData::new(model);
+    forward_kinematics(model, &mut data, q)?;
+    Ok(data
+        .world_from(FrameId::find(model, "hand").unwrap())?
+        .translation
+        .to_array())
+}
+
+#[test]
+fn quaternions_beyond_the_tolerance_are_refused_naming_the_joint_and_norm() {
+    let model = floating_ball();
+    assert_eq!(model.nq(), 14);
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    // The root turned 90° about z (unit): the hand at (0, 1, 0).
+    let mut q = vec![
+        0.0, 0.0, 0.0, 0.0, 0.0, s, s, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ];
+    let at = hand(&model, &q).unwrap();
+    assert!(
+        (at[0]).abs() < 1e-15 && (at[1] - 1.0).abs() < 1e-15,
+        "{at:?}"
+    );
+    // (1, 0, 0, 1) has norm √2: refused, naming the root joint.
+    let root = model.joint(model.bodies()[1].joint.unwrap()).name.clone();
+    q[3..7].copy_from_slice(&[1.0, 0.0, 0.0, 1.0]);
+    match hand(&model, &q) {
+        Err(KinematicsError::NonUnitQuaternion { joint, norm }) => {
+            assert_eq!(joint, root);
+            assert!((norm - 2f64.sqrt()).abs() < 1e-15, "{norm}");
+        }
+        other => panic!("expected NonUnitQuaternion, got {other:?}"),
+    }
+    // The zero quaternion is not the identity.
+    q[3..7].copy_from_slice(&[0.0; 4]);
+    assert!(matches!(
+        hand(&model, &q),
+        Err(KinematicsError::NonUnitQuaternion { norm: 0.0, .. })
+    ));
+    // Huge components: the norm is computed without overflow and reported.
+    q[3..7].copy_from_slice(&[1e300, 0.0, 0.0, 1e300]);
+    match check_configuration(&model, &q) {
+        Err(e @ KinematicsError::NonUnitQuaternion { norm, .. }) => {
+            assert!((norm / 1e300 - 2f64.sqrt()).abs() < 1e-12, "{norm}");
+            assert!(e.to_string().contains(&root), "{e}");
+        }
+        other => panic!("expected NonUnitQuaternion, got {other:?}"),
+    }
+    // The ball joint's quaternion is checked too, and named.
+    q[3..7].copy_from_slice(&[0.0, 0.0, s, s]);
+    q[10..14].copy_from_slice(&[0.0, 0.0, 0.0, 0.5]);
+    match hand(&model, &q) {
+        Err(e @ KinematicsError::NonUnitQuaternion { .. }) => {
+            assert!(e.to_string().contains("'ball'"), "{e}");
+            assert!(e.to_string().contains("0.5"), "{e}");
+        }
+        other => panic!("expected NonUnitQuaternion, got {other:?}"),
+    }
+    // Integrate refuses it as well.
+    let mut out = vec![0.0; 14];
+    assert!(matches!(
+        integrate(&model, &q, &[0.0; 12], &mut out),
+        Err(KinematicsError::NonUnitQuaternion { .. })
+    ));
+}
+
+#[test]
+fn quaternions_within_the_tolerance_are_normalized() {
+    let model = floating_ball();
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let unit = [
+        0.0, 0.0, 0.0, 0.0, 0.0, s, s, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ];
+    let exact = hand(&model, &unit).unwrap();
+    // Scaled by 1 + 0.9·tol: accepted and normalized, so the hand does not move (a rotation
+    // built from the raw quaternion would scale the arm by (1 + 0.9·tol)²).
+    let mut q = unit;
+    let k = 1.0 + 0.9 * QUATERNION_NORM_TOLERANCE;
+    for x in &mut q[3..7] {
+        *x *= k;
+    }
+    let at = hand(&model, &q).unwrap();
+    for i in 0..3 {
+        assert!((at[i] - exact[i]).abs() < 1e-15, "{at:?} vs {exact:?}");
+    }
+    // Scaled by 1 + 1.1·tol: refused.
+    let mut q = unit;
+    for x in &mut q[3..7] {
+        *x *= 1.0 + 1.1 * QUATERNION_NORM_TOLERANCE;
+    }
+    assert!(matches!(
+        hand(&model, &q),
+        Err(KinematicsError::NonUnitQuaternion { .. })
+    ));
+}
