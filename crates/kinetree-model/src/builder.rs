@@ -350,7 +350,7 @@ impl ModelBuilder {
                 }
             }
             check_placement(&j.placement, ItemKind::Joint, &j.name, &mut issues);
-            if j.kind.has_axis() && !(j.axis.is_finite() && j.axis.length_squared() > 1e-24) {
+            if j.kind.has_axis() && !(j.axis.is_finite() && unit_axis(j.axis).is_some()) {
                 issues.push(Issue::InvalidAxis {
                     joint: j.name.clone(),
                     axis: j.axis.to_array(),
@@ -384,6 +384,19 @@ impl ModelBuilder {
                     name: j.name.clone(),
                     what: "damping, friction or armature",
                 });
+            }
+            for (what, value) in [
+                ("damping", d.damping),
+                ("friction", d.friction),
+                ("armature", d.armature),
+            ] {
+                if value < 0.0 {
+                    issues.push(Issue::InvalidJointDynamics {
+                        joint: j.name.clone(),
+                        what,
+                        value,
+                    });
+                }
             }
             if let Some(m) = &j.mimic {
                 match joint_names.get(&m.joint) {
@@ -560,7 +573,7 @@ impl ModelBuilder {
                 placement = self.frames[frame_names_in[frame]].placement * placement;
             }
             let axis = if s.kind.has_axis() {
-                s.axis.normalize()
+                unit_axis(s.axis).unwrap_or(s.axis)
             } else {
                 s.axis
             };
@@ -819,4 +832,16 @@ fn check_link(link: &Link, issues: &mut Vec<Issue>, inertia_issues: &mut Vec<Iss
             });
         }
     }
+}
+
+/// The unit vector along `axis`, scaled by its largest component first so that huge components
+/// (1e308) do not overflow the norm; `None` for a zero (or vanishingly small, |a| ≤ 1e-12) or
+/// non-finite axis.
+fn unit_axis(axis: DVec3) -> Option<DVec3> {
+    let m = axis.abs().max_element();
+    if !(m.is_finite() && m > 1e-12) {
+        return None;
+    }
+    let a = axis / m;
+    Some(a / a.length())
 }

@@ -285,6 +285,15 @@ pub enum Issue {
         /// What is wrong.
         reason: String,
     },
+    /// A joint's damping, friction or armature is negative (it would feed energy into the motion).
+    InvalidJointDynamics {
+        /// The joint.
+        joint: String,
+        /// `"damping"`, `"friction"` or `"armature"`.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+    },
     /// A floating or planar joint is attached below the root where the model does not support it,
     /// or a root joint is declared twice.
     InvalidRootJoint {
@@ -368,6 +377,10 @@ impl fmt::Display for Issue {
                 write!(f, "link '{link}' has invalid geometry: {reason}")
             }
             Self::InvalidRootJoint { joint, reason } => write!(f, "joint '{joint}': {reason}"),
+            Self::InvalidJointDynamics { joint, what, value } => write!(
+                f,
+                "joint '{joint}' has a negative {what} ({value}); it must be zero or positive"
+            ),
         }
     }
 }

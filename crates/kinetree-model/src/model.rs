@@ -413,7 +413,13 @@ impl fmt::Display for Model {
         for (i, link) in self.links.iter().enumerate() {
             let d = self.parent_link(i).map_or(0, |p| depth[p] + 1);
             depth[i] = d;
-            let indent = "  ".repeat(d + 1);
+            // Indented by depth up to MAX_INDENT levels, deeper links tagged with their depth
+            // (a 100 000-link chain would otherwise print 10¹⁰ spaces).
+            const MAX_INDENT: usize = 32;
+            let mut indent = "  ".repeat(d.min(MAX_INDENT) + 1);
+            if d > MAX_INDENT {
+                indent.push_str(&format!("[depth {d}] "));
+            }
             match self.link_parent_joint[i] {
                 Some(j) => {
                     let joint = &self.joints[j];

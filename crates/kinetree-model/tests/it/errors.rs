@@ -484,3 +484,72 @@ fn several_problems_are_reported_together() {
         }
     ));
 }
+
+#[test]
+fn a_huge_axis_is_normalized_without_overflow() {
+    // |axis|² overflows to inf: the axis used to normalize to [0, 0, 0] (a joint that moves
+    // nothing) and pass the zero-axis check.
+    let model = Model::from_urdf_str(
+        &joint_urdf(
+            "revolute",
+            r#"<axis xyz="1e308 1e308 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>"#,
+        ),
+        RootJoint::Fixed,
+    )
+    .unwrap();
+    let axis = model.bodies()[1].axis;
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    assert!((axis - DVec3::new(h, h, 0.0)).length() < 1e-15, "{axis}");
+    // Tiny but non-zero axes are normalized too; zero and subnormal ones are refused.
+    let model = Model::from_urdf_str(
+        &joint_urdf(
+            "prismatic",
+            r#"<axis xyz="0 0 -1e-9"/><limit lower="-1" upper="1" effort="1" velocity="1"/>"#,
+        ),
+        RootJoint::Fixed,
+    )
+    .unwrap();
+    assert_eq!(model.bodies()[1].axis, DVec3::new(0.0, 0.0, -1.0));
+    let e = urdf_err(&joint_urdf(
+        "revolute",
+        r#"<axis xyz="0 5e-324 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/>"#,
+    ));
+    assert!(matches!(e.issues(), [Issue::InvalidAxis { .. }]), "{e}");
+}
+
+#[test]
+fn negative_damping_or_friction_is_refused() {
+    // A negative damping feeds energy into the motion (a simulation diverged to 1e82 J).
+    for (attrs, what) in [
+        (r#"damping="-0.5" friction="0""#, "damping"),
+        (r#"damping="0" friction="-2""#, "friction"),
+    ] {
+        let e = urdf_err(&joint_urdf(
+            "revolute",
+            &format!(
+                r#"<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/><dynamics {attrs}/>"#
+            ),
+        ));
+        match e.issues() {
+            [Issue::InvalidJointDynamics { joint, what: w, .. }] => {
+                assert_eq!(joint, "elbow");
+                assert_eq!(*w, what);
+            }
+            other => panic!("expected InvalidJointDynamics, got {other:?}"),
+        }
+        assert!(
+            e.to_string()
+                .contains(&format!("joint 'elbow' has a negative {what}")),
+            "{e}"
+        );
+    }
+    // Zero and positive values load.
+    Model::from_urdf_str(
+        &joint_urdf(
+            "revolute",
+            r#"<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/><dynamics damping="0.1" friction="0.2"/>"#,
+        ),
+        RootJoint::Fixed,
+    )
+    .unwrap();
+}
