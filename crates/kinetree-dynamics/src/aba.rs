@@ -64,6 +64,7 @@ pub fn aba<'d>(
     check_inputs(model, data, q, Some(v), None)?;
     check_vector("tau", tau, model.nv())?;
     compute(model, data, q, v, tau, None)?;
+    crate::error::check_output(model, data, "ddq", &data.ddq)?;
     Ok(&data.ddq)
 }
 
@@ -83,6 +84,7 @@ pub fn aba_with_external_forces<'d>(
     check_vector("tau", tau, model.nv())?;
     fext.check_model(model)?;
     compute(model, data, q, v, tau, Some(fext))?;
+    crate::error::check_output(model, data, "ddq", &data.ddq)?;
     Ok(&data.ddq)
 }
 
@@ -214,6 +216,19 @@ pub(crate) fn compute(
         }
     }
     if !singular.is_empty() {
+        // A pivot that is not finite is an overflow (huge masses, lengths or velocities), not a
+        // massless subtree.
+        if let Some(i) = (1..nb)
+            .find(|&i| !(data.articulated[i].scale().is_finite() && data.force[i].is_finite()))
+        {
+            let dof = bodies[i].idx_v;
+            let what = if data.articulated[i].scale().is_finite() {
+                "the articulated bias force"
+            } else {
+                "the articulated-body inertia"
+            };
+            return Err(crate::error::overflow(model, data, what, dof, f64::NAN));
+        }
         singular.sort_unstable();
         return Err(DynamicsError::SingularMassMatrix {
             joints: data.joint_names(model, &singular),

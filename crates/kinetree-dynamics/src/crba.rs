@@ -54,6 +54,7 @@ pub fn crba<'d>(
 ) -> Result<&'d [f64], DynamicsError> {
     check_inputs(model, data, q, None, None)?;
     compute(model, data, q);
+    crate::error::check_output(model, data, "mass matrix", &data.mass_matrix)?;
     Ok(&data.mass_matrix)
 }
 

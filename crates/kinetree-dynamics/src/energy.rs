@@ -34,6 +34,15 @@ pub fn kinetic_energy(
             e += 0.5 * r * vk * vk;
         }
     }
+    if !e.is_finite() {
+        return Err(crate::error::overflow(
+            model,
+            data,
+            "kinetic energy",
+            usize::MAX,
+            e,
+        ));
+    }
     Ok(e)
 }
 
@@ -59,6 +68,15 @@ pub fn potential_energy(
     let mut e = 0.0;
     for (b, x) in model.bodies().iter().zip(placements).skip(1) {
         e -= b.inertia.mass * g.dot(x.transform_point(b.inertia.com));
+    }
+    if !e.is_finite() {
+        return Err(crate::error::overflow(
+            model,
+            data,
+            "potential energy",
+            usize::MAX,
+            e,
+        ));
     }
     Ok(e)
 }

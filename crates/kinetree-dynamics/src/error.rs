@@ -27,6 +27,21 @@ pub enum DynamicsError {
         /// The first offending index.
         index: usize,
     },
+    /// A result overflowed: every input is finite, but the computation produced an infinity or
+    /// NaN (velocities, masses, lengths or torques too large for `f64` arithmetic). Never a
+    /// non-finite value in an `Ok`.
+    #[error(
+        "{what} overflowed{} (got {value}) although every input is finite: the state or the model's masses, inertias or lengths are too large",
+        if joint.is_empty() { String::new() } else { format!(" at joint '{joint}'") }
+    )]
+    Overflow {
+        /// The result that overflowed (`"tau"`, `"ddq"`, `"mass matrix"`, `"v"` …).
+        what: &'static str,
+        /// The joint of the first non-finite entry (empty when no joint applies).
+        joint: String,
+        /// The non-finite value.
+        value: f64,
+    },
     /// A data object (or an [`ExternalForces`](crate::ExternalForces)) was created for a different
     /// model.
     #[error(
@@ -121,4 +136,34 @@ pub(crate) fn check_len(
         });
     }
     Ok(())
+}
+
+/// Checks that a result is finite; `x` is a vector over the degrees of freedom or a matrix
+/// stored row after row (its entry `k` belongs to the degree of freedom `k % nv`).
+pub(crate) fn check_output(
+    model: &kinetree_kinematics::model::Model,
+    data: &crate::DynamicsData,
+    what: &'static str,
+    x: &[f64],
+) -> Result<(), DynamicsError> {
+    match x.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(k) => Err(overflow(model, data, what, k % model.nv().max(1), x[k])),
+    }
+}
+
+/// [`DynamicsError::Overflow`] at degree of freedom `dof`.
+pub(crate) fn overflow(
+    model: &kinetree_kinematics::model::Model,
+    data: &crate::DynamicsData,
+    what: &'static str,
+    dof: usize,
+    value: f64,
+) -> DynamicsError {
+    let joint = if dof < model.nv() {
+        data.joint_names(model, &[dof]).pop().unwrap_or_default()
+    } else {
+        String::new()
+    };
+    DynamicsError::Overflow { what, joint, value }
 }

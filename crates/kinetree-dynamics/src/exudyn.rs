@@ -22,10 +22,10 @@ use crate::data::DynamicsData;
 use crate::error::{DynamicsError, check_vector};
 use crate::external::ExternalForces;
 use crate::rnea::{Output, check_inputs, sweep};
-use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
 use kinetree_kinematics::spatial::{Inertia, Se3, rotation};
+use kinetree_kinematics::{JointModel, KinematicsError};
 
 /// A 6x6 matrix in Featherstone's `[angular; linear]` order, row-major (`m[row][col]`).
 pub type T66 = [[f64; 6]; 6];
@@ -172,6 +172,17 @@ pub fn joint_transform_motion_subspace_66(
         _ => 1,
     };
     check_vector("q", q, nq)?;
+    if let JointModel::Spherical | JointModel::Floating = joint {
+        let r = &q[nq - 4..];
+        let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if (norm - 1.0).abs() > kinetree_kinematics::QUATERNION_NORM_TOLERANCE {
+            return Err(KinematicsError::NonUnitQuaternion {
+                joint: format!("{joint:?}"),
+                norm,
+            }
+            .into());
+        }
+    }
     Ok(JointTransformMotionSubspace66 {
         transform: swap_halves(&joint.transform(q).inverse().to_action_matrix()),
         motion_subspace: (0..joint.nv())

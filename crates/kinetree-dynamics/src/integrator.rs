@@ -73,7 +73,8 @@ pub fn step(
     dt: f64,
 ) -> Result<(), DynamicsError> {
     check_step(model, data, q, v, tau, dt)?;
-    run(model, data, integrator, q, v, tau, dt, None)
+    let result = run(model, data, integrator, q, v, tau, dt, None);
+    after_step(model, data, q, v, result)
 }
 
 /// As [`step`], with wrenches applied by the environment (held constant during the step; a
@@ -99,7 +100,49 @@ pub fn step_with_external_forces(
 ) -> Result<(), DynamicsError> {
     check_step(model, data, q, v, tau, dt)?;
     fext.check_model(model)?;
-    run(model, data, integrator, q, v, tau, dt, Some(fext))
+    let result = run(model, data, integrator, q, v, tau, dt, Some(fext));
+    after_step(model, data, q, v, result)
+}
+
+/// A step whose state stopped being finite (or whose stages failed on non-finite values) is an
+/// overflow naming the first joint whose velocity or position overflowed.
+fn after_step(
+    model: &Model,
+    data: &DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    result: Result<(), DynamicsError>,
+) -> Result<(), DynamicsError> {
+    match result {
+        Err(e @ DynamicsError::Overflow { .. }) => return Err(e),
+        // The inputs were checked finite: a non-finite stage value is an overflow.
+        Err(
+            DynamicsError::NonFinite { .. }
+            | DynamicsError::Kinematics(kinetree_kinematics::KinematicsError::NonFinite { .. }),
+        ) => {
+            let dof = data.ddq.iter().position(|x| !x.is_finite()).unwrap_or(0);
+            return Err(crate::error::overflow(
+                model,
+                data,
+                "the integrator's stage state",
+                dof,
+                f64::NAN,
+            ));
+        }
+        _ => {}
+    }
+    crate::error::check_output(model, data, "v", v)?;
+    if let Some(k) = q.iter().position(|x| !x.is_finite()) {
+        // q is indexed by configuration coordinates: name the body that holds index k.
+        let dof = model
+            .bodies()
+            .iter()
+            .skip(1)
+            .find(|b| (b.idx_q..b.idx_q + b.nq).contains(&k))
+            .map_or(0, |b| b.idx_v);
+        return Err(crate::error::overflow(model, data, "q", dof, q[k]));
+    }
+    result
 }
 
 fn check_step(

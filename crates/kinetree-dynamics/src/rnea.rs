@@ -1,7 +1,7 @@
 //! Inverse dynamics: the recursive Newton–Euler algorithm and the torques derived from it.
 
 use crate::data::{DynamicsData, sign};
-use crate::error::{DynamicsError, check_vector};
+use crate::error::{DynamicsError, check_output, check_vector};
 use crate::external::ExternalForces;
 use crate::joint_ops::{Kind, act_force, cross_axis, inv_motion, placed_transform};
 use kinetree_kinematics::model::Model;
@@ -68,6 +68,7 @@ pub fn rnea<'d>(
 ) -> Result<&'d [f64], DynamicsError> {
     check_inputs(model, data, q, Some(v), Some(a))?;
     sweep::<true, true>(model, data, q, v, a, None, Output::Tau);
+    check_output(model, data, "tau", &data.tau)?;
     Ok(&data.tau)
 }
 
@@ -87,6 +88,7 @@ pub fn rnea_with_external_forces<'d>(
     check_inputs(model, data, q, Some(v), Some(a))?;
     fext.check_model(model)?;
     sweep::<true, true>(model, data, q, v, a, Some(fext), Output::Tau);
+    check_output(model, data, "tau", &data.tau)?;
     Ok(&data.tau)
 }
 
@@ -111,6 +113,7 @@ pub fn nonlinear_effects<'d>(
 ) -> Result<&'d [f64], DynamicsError> {
     check_inputs(model, data, q, Some(v), None)?;
     sweep::<true, false>(model, data, q, v, &[], None, Output::Nle);
+    check_output(model, data, "nonlinear effects", &data.nle)?;
     Ok(&data.nle)
 }
 
@@ -131,6 +134,7 @@ pub fn generalized_gravity<'d>(
 ) -> Result<&'d [f64], DynamicsError> {
     check_inputs(model, data, q, None, None)?;
     sweep::<false, false>(model, data, q, &[], &[], None, Output::Gravity);
+    check_output(model, data, "gravity torque", &data.gravity_torque)?;
     Ok(&data.gravity_torque)
 }
 
@@ -144,6 +148,7 @@ pub(crate) fn check_inputs(
 ) -> Result<(), DynamicsError> {
     data.check_model(model)?;
     check_vector("q", q, model.nq())?;
+    kinetree_kinematics::configuration::check_configuration(model, q)?;
     if let Some(v) = v {
         check_vector("v", v, model.nv())?;
     }

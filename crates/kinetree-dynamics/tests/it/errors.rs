@@ -313,3 +313,98 @@ fn coupled_mimic_models_are_rejected_not_miscomputed() {
         );
     }
 }
+
+/// A floating base's quaternion of norm √2 (x = 1, w = 1) used to double the torques: it is
+/// refused naming the joint; within the tolerance the torques equal the normalized ones.
+#[test]
+fn non_unit_quaternions_are_refused_or_normalized() {
+    use kinetree_dynamics::kinematics::{KinematicsError, QUATERNION_NORM_TOLERANCE};
+    let model = every_kind(RootJoint::Floating);
+    let mut data = DynamicsData::new(&model);
+    let mut q = kinetree_dynamics::kinematics::configuration::neutral_configuration(&model);
+    let (v, a) = (vec![0.1; model.nv()], vec![0.2; model.nv()]);
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    q[3..7].copy_from_slice(&[s, 0.0, 0.0, s]);
+    let unit = rnea(&model, &mut data, &q, &v, &a).unwrap().to_vec();
+    q[3..7].copy_from_slice(&[1.0, 0.0, 0.0, 1.0]);
+    for result in [
+        rnea(&model, &mut data, &q, &v, &a).map(<[f64]>::to_vec),
+        crba(&model, &mut data, &q).map(|_| Vec::new()),
+        aba(&model, &mut data, &q, &v, &a).map(<[f64]>::to_vec),
+        generalized_gravity(&model, &mut data, &q).map(<[f64]>::to_vec),
+    ] {
+        match result {
+            Err(DynamicsError::Kinematics(KinematicsError::NonUnitQuaternion { joint, norm })) => {
+                assert_eq!(joint, model.joint(model.bodies()[1].joint.unwrap()).name);
+                assert!((norm - 2f64.sqrt()).abs() < 1e-15);
+            }
+            other => panic!("expected NonUnitQuaternion, got {other:?}"),
+        }
+    }
+    let k = 1.0 + 0.5 * QUATERNION_NORM_TOLERANCE;
+    q[3..7].copy_from_slice(&[s * k, 0.0, 0.0, s * k]);
+    let near = rnea(&model, &mut data, &q, &v, &a).unwrap();
+    for (x, y) in near.iter().zip(&unit) {
+        assert!((x - y).abs() < 1e-12 * (1.0 + y.abs()), "{x} vs {y}");
+    }
+}
+
+/// Finite but huge inputs used to give NaN and -inf torques in an `Ok`, and a "massless
+/// subtree" error from ABA: each result is now checked and an overflow names what overflowed.
+#[test]
+fn overflow_is_a_typed_error_never_nan_in_ok() {
+    let model = every_kind(RootJoint::Fixed);
+    let mut data = DynamicsData::new(&model);
+    let q = kinetree_dynamics::kinematics::configuration::neutral_configuration(&model);
+    let nv = model.nv();
+    let mut v = vec![0.0; nv];
+    v[0] = 1e308;
+    let (a, tau) = (vec![0.0; nv], vec![0.0; nv]);
+    let is_overflow = |r: Result<Vec<f64>, DynamicsError>, what: &str| match r {
+        Err(e @ DynamicsError::Overflow { .. }) => {
+            let text = e.to_string();
+            assert!(text.contains("overflowed"), "{what}: {text}");
+            assert!(!text.contains("massless"), "{what}: {text}");
+        }
+        other => panic!("{what}: expected Overflow, got {other:?}"),
+    };
+    is_overflow(
+        rnea(&model, &mut data, &q, &v, &a).map(<[f64]>::to_vec),
+        "rnea",
+    );
+    is_overflow(
+        nonlinear_effects(&model, &mut data, &q, &v).map(<[f64]>::to_vec),
+        "nle",
+    );
+    is_overflow(
+        aba(&model, &mut data, &q, &v, &tau).map(<[f64]>::to_vec),
+        "aba",
+    );
+    is_overflow(
+        kinetree_dynamics::kinetic_energy(&model, &mut data, &q, &v).map(|e| vec![e]),
+        "kinetic energy",
+    );
+    let (mut qs, mut vs) = (q.clone(), v.clone());
+    is_overflow(
+        step(
+            &model,
+            &mut data,
+            Integrator::RungeKutta4,
+            &mut qs,
+            &mut vs,
+            &tau,
+            1e-3,
+        )
+        .map(|()| Vec::new()),
+        "step",
+    );
+    // The joint is named when a torque overflows.
+    match rnea(&model, &mut data, &q, &v, &a) {
+        Err(DynamicsError::Overflow { joint, .. }) => assert!(!joint.is_empty()),
+        other => panic!("expected Overflow, got {other:?}"),
+    }
+    // A moderate velocity is fine, and a step from it stays finite.
+    v[0] = 1.0;
+    let ok = rnea(&model, &mut data, &q, &v, &a).unwrap();
+    assert!(ok.iter().all(|x| x.is_finite()));
+}
