@@ -49,6 +49,40 @@ pub(crate) struct Args {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
+    /// Run even when --calls × (--repetitions + 1) exceeds the limit of 10⁹ calls per algorithm.
+    #[arg(long)]
+    no_limit: bool,
+}
+
+/// The most calls per algorithm (warm-up included) run without --no-limit.
+const MAX_CALLS: usize = 1_000_000_000;
+
+/// Refuses counts that time nothing (zero calls or repetitions would print invented timings)
+/// and counts that cannot finish sensibly.
+fn check_counts(args: &Args) -> Result<()> {
+    if args.calls == 0 || args.repetitions == 0 {
+        anyhow::bail!(
+            "--calls and --repetitions must be at least 1 (got --calls {} --repetitions {}): zero calls time nothing",
+            args.calls,
+            args.repetitions
+        );
+    }
+    let total = args
+        .calls
+        .saturating_mul(args.repetitions.saturating_add(1));
+    if total > MAX_CALLS && !args.no_limit {
+        anyhow::bail!(
+            "--calls {} × (--repetitions {} + 1 warm-up) = {} calls per algorithm exceeds the limit of {MAX_CALLS}; lower them, or pass --no-limit to run anyway",
+            args.calls,
+            args.repetitions,
+            if total == usize::MAX {
+                "more than 1.8e19".to_string()
+            } else {
+                total.to_string()
+            }
+        );
+    }
+    Ok(())
 }
 
 /// Median ns/call of `f(i)` over `reps` repetitions of `calls` calls (after a warm-up).
@@ -79,7 +113,14 @@ fn deepest_link(model: &Model) -> usize {
 
 /// Runs every timing and prints the results.
 pub(crate) fn run(args: &Args) -> Result<()> {
+    check_counts(args)?;
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
+    if model.nv() == 0 {
+        anyhow::bail!(
+            "model '{}' has no moving joint (nv = 0): there is nothing to time",
+            model.name()
+        );
+    }
     let mut rng = rand::rngs::SmallRng::seed_from_u64(args.seed);
     let states: Vec<Vec<f64>> = (0..1000)
         .map(|_| {
@@ -143,32 +184,40 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     results.push((
         "rnea",
         time(calls, reps, |i| {
-            let _ = black_box(rnea(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|t| t[0]));
+            let _ = black_box(
+                rnea(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|t| t.first().copied()),
+            );
         }),
     ));
     results.push((
         "nle",
         time(calls, reps, |i| {
-            let _ =
-                black_box(nonlinear_effects(&model, &mut dd, black_box(q(i)), x(i)).map(|t| t[0]));
+            let _ = black_box(
+                nonlinear_effects(&model, &mut dd, black_box(q(i)), x(i))
+                    .map(|t| t.first().copied()),
+            );
         }),
     ));
     results.push((
         "crba",
         time(calls, reps, |i| {
-            let _ = black_box(crba(&model, &mut dd, black_box(q(i))).map(|m| m[0]));
+            let _ = black_box(crba(&model, &mut dd, black_box(q(i))).map(|m| m.first().copied()));
         }),
     ));
     results.push((
         "aba",
         time(calls, reps, |i| {
-            let _ = black_box(aba(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|a| a[0]));
+            let _ = black_box(
+                aba(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|a| a.first().copied()),
+            );
         }),
     ));
     results.push((
         "minv",
         time(calls, reps, |i| {
-            let _ = black_box(mass_matrix_inverse(&model, &mut dd, black_box(q(i))).map(|m| m[0]));
+            let _ = black_box(
+                mass_matrix_inverse(&model, &mut dd, black_box(q(i))).map(|m| m.first().copied()),
+            );
         }),
     ));
 
@@ -201,14 +250,14 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         let mut cd = kinetree::collision::CollisionData::new(&cmodel);
         results.push((
             "collision_any",
-            time(calls / 10, reps, |i| {
+            time((calls / 10).max(1), reps, |i| {
                 let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
                 let _ = black_box(kinetree::collision::any_collision(&cmodel, &mut cd));
             }),
         ));
         results.push((
             "collision_distances",
-            time(calls / 10, reps, |i| {
+            time((calls / 10).max(1), reps, |i| {
                 let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
                 let _ = black_box(
                     kinetree::collision::compute_distances(&cmodel, &mut cd).map(|d| d.len()),
@@ -223,17 +272,17 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             .map(|(k, v)| ((*k).to_string(), serde_json::json!(v)))
             .collect();
         let out = serde_json::json!({"model": model.name(), "nq": model.nq(), "nv": model.nv(), "ns_per_call": map});
-        println!("{out}");
+        outln!("{out}")?;
     } else {
-        println!(
+        outln!(
             "{} (nq = {}, nv = {}), {calls} calls x {reps} repetitions, median ns/call",
             model.name(),
             model.nq(),
             model.nv()
-        );
-        println!("frame_jacobian is timed on '{}'", frame.name(&model)?);
+        )?;
+        outln!("frame_jacobian is timed on '{}'", frame.name(&model)?)?;
         for (name, ns) in &results {
-            println!("  {name:<18} {ns:>10.1}");
+            outln!("  {name:<18} {ns:>10.1}")?;
         }
     }
     Ok(())

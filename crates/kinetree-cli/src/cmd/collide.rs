@@ -100,56 +100,56 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             .map_or_else(|| format!("#{id}"), |(_, o)| o.name().to_string())
     };
 
-    println!(
+    outln!(
         "{}: {} shapes, {} candidate pairs",
         model.name(),
         cmodel.shapes().len(),
         cmodel.pairs().len()
-    );
+    )?;
     let contacts = compute_self_collisions(&cmodel, &mut data)?.to_vec();
-    println!("self-collisions: {}", contacts.len());
+    outln!("self-collisions: {}", contacts.len())?;
     for c in &contacts {
-        println!(
+        outln!(
             "  {:<24} {:<24} depth {:.6} m",
             shape_link(c.a),
             shape_link(c.b),
             -c.distance
-        );
+        )?;
     }
     let world = compute_world_collisions(&cmodel, &mut data)?.to_vec();
     if args.obstacles.is_some() {
-        println!("world collisions: {}", world.len());
+        outln!("world collisions: {}", world.len())?;
         for c in &world {
-            println!(
+            outln!(
                 "  {:<24} {:<24} depth {:.6} m",
                 shape_link(c.a),
                 obstacle_name(&data, c.b),
                 -c.distance
-            );
+            )?;
         }
     }
     let mut distances = compute_distances(&cmodel, &mut data)?.to_vec();
     distances.sort_by(|x, y| x.distance.total_cmp(&y.distance));
-    println!("closest self pairs (signed distance, m):");
+    outln!("closest self pairs (signed distance, m):")?;
     for d in distances.iter().take(args.closest) {
-        println!(
+        outln!(
             "  {:<24} {:<24} {:>10.6}",
             shape_link(d.a),
             shape_link(d.b),
             d.distance
-        );
+        )?;
     }
     if args.obstacles.is_some() {
         let mut w = compute_world_distances(&cmodel, &mut data)?.to_vec();
         w.sort_by(|x, y| x.distance.total_cmp(&y.distance));
-        println!("closest world pairs (signed distance, m):");
+        outln!("closest world pairs (signed distance, m):")?;
         for d in w.iter().take(args.closest) {
-            println!(
+            outln!(
                 "  {:<24} {:<24} {:>10.6}",
                 shape_link(d.a),
                 obstacle_name(&data, d.b),
                 d.distance
-            );
+            )?;
         }
     }
     Ok(())

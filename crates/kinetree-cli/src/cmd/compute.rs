@@ -111,7 +111,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     match &args.out {
         Some(path) => std::fs::write(path, json)
             .with_context(|| format!("cannot write {}", path.display()))?,
-        None => print!("{json}"),
+        None => out!("{json}")?,
     }
     Ok(())
 }

@@ -65,7 +65,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     std::fs::write(&args.output, text)
         .with_context(|| format!("cannot write {}", args.output.display()))?;
 
-    println!(
+    outln!(
         "wrote {} ({}): {} links, {} joints, nq = {}, nv = {}",
         args.output.display(),
         match format {
@@ -80,10 +80,10 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             .count(),
         model.nq(),
         model.nv()
-    );
+    )?;
     if format == Format::Urdf {
         for note in urdf_losses(&model) {
-            println!("note: {note}");
+            outln!("note: {note}")?;
         }
     }
     Ok(())

@@ -73,6 +73,6 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         let cells: Vec<String> = row.iter().map(|x| format!("{x:>11.5}")).collect();
         let _ = writeln!(out, "  {}", cells.join(" "));
     }
-    print!("{out}");
+    out!("{out}")?;
     Ok(())
 }

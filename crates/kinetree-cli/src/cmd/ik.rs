@@ -124,21 +124,21 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             "iterations": report.iterations, "restarts": report.restarts,
             "elapsed_us": report.elapsed.as_secs_f64() * 1e6,
         });
-        println!("{out}");
+        outln!("{out}")?;
     } else {
-        println!("status: {status}");
-        println!(
+        outln!("status: {status}")?;
+        outln!(
             "position error {:.3e} m, orientation error {:.3e} rad, {} iterations, {} restarts, {:.1} µs",
             report.position_error,
             report.orientation_error,
             report.iterations,
             report.restarts,
             report.elapsed.as_secs_f64() * 1e6
-        );
-        println!("q:");
+        )?;
+        outln!("q:")?;
         for (n, v) in &values {
             let x: Vec<String> = v.iter().map(|x| format!("{x:.9}")).collect();
-            println!("  {n:<28} {}", x.join(" "));
+            outln!("  {n:<28} {}", x.join(" "))?;
         }
     }
     Ok(())

@@ -20,7 +20,7 @@ pub(crate) struct Args {
 /// Loads the model and prints the report.
 pub(crate) fn run(args: &Args) -> Result<()> {
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
-    print!("{}", report(&model, &args.model.display().to_string()));
+    out!("{}", report(&model, &args.model.display().to_string()))?;
     Ok(())
 }
 

@@ -22,7 +22,39 @@ use std::path::Path;
 /// # Errors
 /// The loader's error, with context naming the file.
 pub(crate) fn load_model(path: &Path, root: impl Into<Option<RootJoint>>) -> Result<Model> {
+    check_model_file(path)?;
     Model::from_file(path, root).with_context(|| format!("cannot load {}", path.display()))
+}
+
+/// The largest model file read unless `KINETREE_MAX_MODEL_BYTES` says otherwise (256 MiB: a
+/// 10 000-link URDF is about 5 MB).
+const MAX_MODEL_BYTES: u64 = 256 << 20;
+
+/// Refuses what is not a regular file (`/dev/zero`, a FIFO, a directory would be read forever or
+/// fail obscurely) and files beyond the size limit.
+fn check_model_file(path: &Path) -> Result<()> {
+    let Ok(meta) = std::fs::metadata(path) else {
+        // The loader names the file and the I/O error.
+        return Ok(());
+    };
+    if !meta.is_file() {
+        anyhow::bail!(
+            "cannot load {}: not a regular file (a model must be a .urdf or .json file)",
+            path.display()
+        );
+    }
+    let limit = std::env::var("KINETREE_MAX_MODEL_BYTES")
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok())
+        .unwrap_or(MAX_MODEL_BYTES);
+    if meta.len() > limit {
+        anyhow::bail!(
+            "cannot load {}: the file has {} bytes, more than the limit of {limit}; set KINETREE_MAX_MODEL_BYTES to a larger byte count to load it",
+            path.display(),
+            meta.len()
+        );
+    }
+    Ok(())
 }
 
 /// The root attachment asked for by a `--floating` flag: `None` leaves it to the file.

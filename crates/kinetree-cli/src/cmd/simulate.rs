@@ -49,13 +49,30 @@ pub(crate) struct Args {
     /// Write an SVG plot of joint positions and mechanical energy over time.
     #[arg(long)]
     plot: Option<PathBuf>,
+    /// Run even when --duration / --dt exceeds the limit of 10⁹ steps.
+    #[arg(long)]
+    no_limit: bool,
 }
+
+/// The most steps run without --no-limit.
+const MAX_STEPS: f64 = 1e9;
 
 /// Runs the simulation and reports.
 pub(crate) fn run(args: &Args) -> Result<()> {
     if !(args.dt.is_finite() && args.dt > 0.0 && args.duration.is_finite() && args.duration >= 0.0)
     {
         bail!("--dt must be positive and --duration non-negative");
+    }
+    let steps = (args.duration / args.dt).round();
+    if steps > MAX_STEPS && !args.no_limit {
+        bail!(
+            "--duration {:e} / --dt {:e} is {steps:.3e} steps, more than the limit of {MAX_STEPS:e}; lengthen --dt, shorten --duration, or pass --no-limit",
+            args.duration,
+            args.dt
+        );
+    }
+    if steps >= usize::MAX as f64 {
+        bail!("--duration / --dt is {steps:.3e} steps, more than this machine can count");
     }
     let integrator = match args.integrator.as_str() {
         "rk4" => Integrator::RungeKutta4,
@@ -77,7 +94,8 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         JointTerms::FromModel
     };
     let mut data = DynamicsData::with_joint_terms(&model, terms);
-    let steps = (args.duration / args.dt).round() as usize;
+    // Finite, non-negative and below usize::MAX (checked above).
+    let steps = steps as usize;
     let e0 = mechanical_energy(&model, &mut data, &q, &v)?;
     // Positions of the 1-DoF joints (the plot's curves) and energy, sampled about 1000 times.
     let every = (steps / 1000).max(1);
@@ -97,9 +115,39 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let mut limits = LimitLog::new(&model, &q);
     let mut dissipated_by_stops = 0.0;
     let start = std::time::Instant::now();
+    // Progress on a terminal (hidden otherwise), updated about 200 times.
+    let bar = indicatif::ProgressBar::new(steps as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "simulating [{bar:40}] {pos}/{len} steps, {per_sec}, eta {eta}",
+        )
+        .map_or_else(
+            |_| indicatif::ProgressStyle::default_bar(),
+            |s| s.progress_chars("=> "),
+        ),
+    );
+    let tick = (steps / 200).max(1);
     for k in 1..=steps {
-        step(&model, &mut data, integrator, &mut q, &mut v, &tau, args.dt)
-            .with_context(|| format!("step {k} (t = {:.6} s)", k as f64 * args.dt))?;
+        if k % tick == 0 {
+            bar.set_position(k as u64);
+        }
+        if let Err(e) = step(&model, &mut data, integrator, &mut q, &mut v, &tau, args.dt) {
+            let largest = |x: &[f64]| x.iter().fold(0.0f64, |m, y| m.max(y.abs()));
+            let (qmax, vmax) = (largest(&q), largest(&v));
+            let e = anyhow::Error::new(e);
+            // A state that has run away makes the mass matrix numerically singular (or
+            // overflows): say so rather than blaming massless links.
+            // More than one radian (or metre) per step, or far beyond any joint range.
+            let e = if qmax > 1e6 || vmax * args.dt > 1.0 || !(qmax.is_finite() && vmax.is_finite())
+            {
+                e.context(format!(
+                    "the simulation diverged (largest |q| = {qmax:.3e}, largest |v| = {vmax:.3e}); try a smaller --dt or a smaller initial velocity"
+                ))
+            } else {
+                e
+            };
+            return Err(e.context(format!("step {k} (t = {:.6} s)", k as f64 * args.dt)));
+        }
         limits.record(k as f64 * args.dt, &q);
         if limit_model == LimitModel::InelasticStop {
             dissipated_by_stops += apply_hard_stops(&model, &mut data, &mut q, &mut v)
@@ -112,37 +160,38 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             energy.push((t, mechanical_energy(&model, &mut data, &q, &v)?));
         }
     }
+    bar.finish_and_clear();
     let elapsed = start.elapsed();
     let e1 = mechanical_energy(&model, &mut data, &q, &v)?;
-    println!(
+    outln!(
         "{}: {steps} steps of {} s ({:?}) in {:.3} s wall ({:.2} µs/step)",
         model.name(),
         args.dt,
         integrator,
         elapsed.as_secs_f64(),
         elapsed.as_secs_f64() * 1e6 / steps.max(1) as f64
-    );
-    println!(
+    )?;
+    outln!(
         "{}",
         if args.no_joint_dynamics {
             "joint damping, friction and armature: off (--no-joint-dynamics)".to_string()
         } else {
             joint_terms_line(&model)
         }
-    );
-    println!(
+    )?;
+    outln!(
         "mechanical energy: {e0:.9} J -> {e1:.9} J (change {:.3e} J, relative {:.3e})",
         e1 - e0,
         (e1 - e0) / e0.abs().max(1e-300)
-    );
-    limits.print(&model, limit_model, dissipated_by_stops);
-    println!("final q:");
+    )?;
+    limits.print(&model, limit_model, dissipated_by_stops)?;
+    outln!("final q:")?;
     for j in model.moving_joints() {
         let x: Vec<String> = q[model.joint_q_range(j)]
             .iter()
             .map(|x| format!("{x:.6}"))
             .collect();
-        println!("  {:<28} {}", model.joint(j).name, x.join(" "));
+        outln!("  {:<28} {}", model.joint(j).name, x.join(" "))?;
     }
     if let Some(path) = &args.plot {
         let names: Vec<&str> = plotted
@@ -176,7 +225,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             );
         });
         std::fs::write(path, svg).with_context(|| format!("cannot write {}", path.display()))?;
-        println!("plot written to {}", path.display());
+        outln!("plot written to {}", path.display())?;
     }
     Ok(())
 }
@@ -233,17 +282,22 @@ impl LimitLog {
     }
 
     /// Prints one line per coordinate that left its limits (or that none did).
-    fn print(&self, model: &kinetree::model::Model, limit_model: LimitModel, dissipated: f64) {
+    fn print(
+        &self,
+        model: &kinetree::model::Model,
+        limit_model: LimitModel,
+        dissipated: f64,
+    ) -> Result<()> {
         let count = self.out.iter().flatten().count();
         match limit_model {
-            LimitModel::InelasticStop => println!(
+            LimitModel::InelasticStop => outln!(
                 "joint limits: inelastic hard stops (--joint-limits stop); {count} of {} limited coordinates reached a stop, {dissipated:.6e} J dissipated by the stops",
                 self.coordinates.len()
-            ),
-            _ => println!(
+            )?,
+            _ => outln!(
                 "joint limits: not enforced (--joint-limits stop adds hard stops); {count} of {} limited coordinates left their limits",
                 self.coordinates.len()
-            ),
+            )?,
         }
         for (&(iq, lo, hi, j), out) in self.coordinates.iter().zip(&self.out) {
             let Some((first, steps, excess, value)) = out else {
@@ -255,9 +309,10 @@ impl LimitLog {
             } else {
                 name.clone()
             };
-            println!(
+            outln!(
                 "  {coordinate:<28} limits [{lo}, {hi}]: out from t = {first:.4} s for {steps} steps, worst {value:.6} ({excess:.3e} beyond)"
-            );
+            )?;
         }
+        Ok(())
     }
 }

@@ -56,6 +56,9 @@ pub(crate) struct Args {
     /// Worker threads [default: one per core].
     #[arg(long)]
     threads: Option<usize>,
+    /// Start more than 1024 worker threads if asked.
+    #[arg(long)]
+    no_limit: bool,
 }
 
 /// The `--task` values.
@@ -112,12 +115,31 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     report_to(args, &mut std::io::stdout().lock())
 }
 
+/// The most worker threads started without --no-limit (the sample count is bounded by the
+/// library's own limit).
+const MAX_THREADS: usize = 1024;
+
+/// Refuses thread counts that cannot start sensibly (100 000 threads ran until killed).
+fn check_limits(args: &Args) -> Result<()> {
+    if args.no_limit {
+        return Ok(());
+    }
+    if let Some(t) = args.threads.filter(|&t| t > MAX_THREADS) {
+        bail!(
+            "--threads {t} exceeds the limit of {MAX_THREADS} worker threads (this machine has {}); lower it, or pass --no-limit",
+            std::thread::available_parallelism().map_or(1, usize::from)
+        );
+    }
+    Ok(())
+}
+
 /// [`run`] with the summary written to `out`.
 fn report_to(args: &Args, out: &mut dyn std::io::Write) -> Result<()> {
     // Check what can be checked before sampling, which may take a while.
     if !(args.voxel.is_finite() && args.voxel > 0.0) {
         bail!("--voxel {} is not a positive length in metres", args.voxel);
     }
+    check_limits(args)?;
     let format = args.out.as_deref().map(format_of).transpose()?;
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
     let frame = FrameId::find(&model, &args.frame)?;

@@ -1,0 +1,225 @@
+//! Hostile input through the binary: every command on degenerate models, closed pipes, absurd
+//! work and overflowing states ends with a result or a clean refusal (exit code 1 and a message
+//! naming the problem), never a panic, a hang or a NaN printed as an answer.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn kinetree(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kinetree"))
+        .args(args)
+        .output()
+        .expect("the kinetree binary runs")
+}
+
+fn panda() -> String {
+    data("robots/panda.urdf")
+}
+
+fn data(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data")
+        .join(rel)
+        .display()
+        .to_string()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// A clean refusal: exit code 1, no panic, and stderr containing every `needle`.
+#[track_caller]
+fn refused(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(1), "stderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "expected '{n}' in: {err}");
+    }
+}
+
+/// A scratch folder for this test process.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("kinetree-rel-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn a_non_unit_floating_quaternion_is_refused_naming_the_joint_and_norm() {
+    // (x, y, z, w) = (1, 0, 0, 1): norm √2, which used to double the torques.
+    let o = kinetree(&[
+        "dynamics",
+        &panda(),
+        "--floating",
+        "--q",
+        "root_joint=0:0:0:1:0:0:1",
+        "--a",
+        "panda_joint1=0",
+    ]);
+    refused(&o, &["root_joint", "1.414213562"]);
+    // The zero quaternion is not the identity.
+    let o = kinetree(&[
+        "dynamics",
+        &panda(),
+        "--floating",
+        "--q",
+        "root_joint=0:0:0:0:0:0:0",
+        "--a",
+        "panda_joint1=0",
+    ]);
+    refused(&o, &["root_joint", "norm 0"]);
+}
+
+#[test]
+fn an_overflowing_state_is_an_error_not_nan() {
+    let o = kinetree(&[
+        "dynamics",
+        &panda(),
+        "--v",
+        "panda_joint1=1e308",
+        "--a",
+        "panda_joint1=0",
+    ]);
+    refused(&o, &["overflowed", "panda_joint"]);
+    assert!(!stdout(&o).contains("NaN") && !stdout(&o).contains("inf"));
+    // A runaway simulation says it diverged instead of blaming massless links.
+    let o = kinetree(&["simulate", &panda(), "--v", "panda_joint1=1e6"]);
+    refused(&o, &["diverged"]);
+}
+
+#[test]
+fn bench_refuses_counts_that_time_nothing_or_never_finish() {
+    let o = kinetree(&["bench", &panda(), "--calls", "0", "--repetitions", "0"]);
+    refused(&o, &["--calls", "at least 1"]);
+    let o = kinetree(&["bench", &panda(), "--calls", "18446744073709551615"]);
+    refused(&o, &["limit", "--no-limit"]);
+}
+
+#[test]
+fn absurd_work_is_refused_with_the_limit_and_how_to_lift_it() {
+    let o = kinetree(&["simulate", &panda(), "--duration", "1e300"]);
+    refused(&o, &["limit", "--no-limit"]);
+    let o = kinetree(&["simulate", &panda(), "--dt", "1e-300"]);
+    refused(&o, &["limit", "--no-limit"]);
+    let o = kinetree(&[
+        "workspace",
+        &panda(),
+        "--frame",
+        "panda_link8",
+        "--threads",
+        "100000",
+    ]);
+    refused(&o, &["--threads 100000", "limit", "--no-limit"]);
+    #[cfg(unix)]
+    {
+        let o = kinetree(&["inspect", "/dev/zero"]);
+        refused(&o, &["/dev/zero", "not a regular file"]);
+    }
+    let o = Command::new(env!("CARGO_BIN_EXE_kinetree"))
+        .args(["inspect", &panda()])
+        .env("KINETREE_MAX_MODEL_BYTES", "1000")
+        .output()
+        .unwrap();
+    refused(&o, &["limit of 1000", "KINETREE_MAX_MODEL_BYTES"]);
+}
+
+/// `kinetree … | head -c 0`: the reader is gone before the command writes.
+fn with_closed_stdout(args: &[&str]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_kinetree"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn a_closed_stdout_is_a_normal_end() {
+    let reference = data("reference/panda.json");
+    let urdf = data("reference/urdf/panda.urdf");
+    for args in [
+        vec!["inspect", &panda()],
+        vec!["compute", &urdf, "--states", &reference],
+        vec!["simulate", &panda(), "--duration", "0.01"],
+        vec!["dynamics", &panda(), "--a", "panda_joint1=1"],
+    ] {
+        let o = with_closed_stdout(&args);
+        let err = stderr(&o);
+        assert!(o.status.success(), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn every_command_works_or_refuses_cleanly_on_degenerate_models() {
+    let dir = scratch("degenerate");
+    let one = dir.join("one.urdf");
+    std::fs::write(&one, r#"<robot name="one"><link name="a"/></robot>"#).unwrap();
+    let empty = dir.join("empty.urdf");
+    std::fs::write(&empty, r#"<robot name="e"/>"#).unwrap();
+    let states = dir.join("states.json");
+    std::fs::write(&states, r#"{"samples": [{"q": {}}]}"#).unwrap();
+    let json = dir.join("out.json");
+    for model in [&one, &empty] {
+        let m = model.to_str().unwrap();
+        for args in [
+            vec!["inspect", m],
+            vec!["convert", m, json.to_str().unwrap()],
+            vec!["compute", m, "--states", states.to_str().unwrap()],
+            vec!["bench", m, "--calls", "10", "--repetitions", "1"],
+            vec!["ik", m, "--frame", "a", "--position", "0,0,0"],
+            vec!["collide", m],
+            vec!["dynamics", m],
+            vec!["simulate", m, "--duration", "0.01"],
+            vec!["workspace", m, "--frame", "a", "--samples", "10"],
+        ] {
+            let o = kinetree(&args);
+            let err = stderr(&o);
+            assert!(
+                matches!(o.status.code(), Some(0..=2)),
+                "{args:?}: {:?} {err}",
+                o.status
+            );
+            assert!(!err.contains("panicked"), "{args:?}: {err}");
+            if !o.status.success() {
+                assert!(err.starts_with("error"), "{args:?}: {err}");
+            }
+        }
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn inspect_output_grows_linearly_with_depth() {
+    // A 3000-link chain: indenting one level per depth printed 9 MB of spaces.
+    let n = 3000;
+    let mut urdf = String::from(r#"<robot name="chain"><link name="l0"/>"#);
+    for i in 1..n {
+        urdf.push_str(&format!(
+            r#"<link name="l{i}"/><joint name="j{i}" type="fixed"><parent link="l{}"/><child link="l{i}"/></joint>"#,
+            i - 1
+        ));
+    }
+    urdf.push_str("</robot>");
+    let dir = scratch("chain");
+    let path = dir.join("chain.urdf");
+    std::fs::File::create(&path)
+        .unwrap()
+        .write_all(urdf.as_bytes())
+        .unwrap();
+    let o = kinetree(&["inspect", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.len() < 1_000_000, "{} bytes", text.len());
+    assert!(text.contains("[depth 2999] l2999"), "{}", &text[..2000]);
+    std::fs::remove_dir_all(dir).ok();
+}
