@@ -13,6 +13,7 @@ mod corpus;
 mod ik_report;
 mod layers;
 mod regress;
+mod regress_derivatives;
 mod tidy;
 
 const USAGE: &str = "\

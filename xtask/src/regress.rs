@@ -16,7 +16,7 @@ use std::path::Path;
 
 /// How a quantity's error is judged.
 #[derive(Clone, Copy, Debug)]
-enum Tolerance {
+pub(crate) enum Tolerance {
     /// Every entry within this absolute error.
     Absolute(f64),
     /// Every entry within this error relative to the largest reference entry of the sample.
@@ -24,6 +24,10 @@ enum Tolerance {
     /// Relative, scaled per sample by the mass matrix condition number: `max(base, cond · 1e-13)`
     /// (the reference expects differences of order `cond · 1e-15` between implementations).
     RelativeCond(f64),
+    /// Relative to `max(1, largest reference entry)` of the sample.
+    RelativeFloor(f64),
+    /// As `RelativeFloor`, scaled by `max(1, cond / 1e3)`.
+    RelativeFloorCond(f64),
 }
 
 /// Worst errors of one quantity of one robot.
@@ -41,7 +45,7 @@ pub(crate) struct Row {
 }
 
 impl Row {
-    fn new(robot: &str, quantity: &'static str, tolerance: Tolerance) -> Self {
+    pub(crate) fn new(robot: &str, quantity: &'static str, tolerance: Tolerance) -> Self {
         Self {
             robot: robot.to_string(),
             quantity,
@@ -55,7 +59,7 @@ impl Row {
 
     /// Records one sample's pairs (ours, reference); `cond` is the sample's mass matrix condition
     /// number (used by [`Tolerance::RelativeCond`]).
-    fn record_with(&mut self, pairs: &[(f64, f64)], cond: f64) {
+    pub(crate) fn record_with(&mut self, pairs: &[(f64, f64)], cond: f64) {
         let scale = pairs.iter().fold(0.0f64, |m, (_, r)| m.max(r.abs()));
         for (ours, reference) in pairs {
             // A NaN never compares as small: record it as an infinite error.
@@ -71,13 +75,17 @@ impl Row {
                 Tolerance::Absolute(t) => err / t,
                 Tolerance::Relative(t) => rel / t,
                 Tolerance::RelativeCond(t) => rel / t.max(cond * 1e-13),
+                Tolerance::RelativeFloor(t) => err / scale.max(1.0) / t,
+                Tolerance::RelativeFloorCond(t) => {
+                    err / scale.max(1.0) / (t * (cond / 1e3).max(1.0))
+                }
             };
             self.worst_ratio = self.worst_ratio.max(ratio);
         }
         self.entries += pairs.len();
     }
 
-    fn record(&mut self, pairs: &[(f64, f64)]) {
+    pub(crate) fn record(&mut self, pairs: &[(f64, f64)]) {
         self.record_with(pairs, 1.0);
     }
 
@@ -90,6 +98,8 @@ impl Row {
             Tolerance::Absolute(t) => format!("{t:.0e} abs"),
             Tolerance::Relative(t) => format!("{t:.0e} rel"),
             Tolerance::RelativeCond(t) => format!("{t:.0e}*cond"),
+            Tolerance::RelativeFloor(t) => format!("{t:.0e} rel1"),
+            Tolerance::RelativeFloorCond(t) => format!("{t:.0e}*c/1e3"),
         }
     }
 }
@@ -295,6 +305,14 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
     if collision.entries > 0 {
         rows.push(collision);
     }
+    // The analytic derivatives, from derivatives/<same file name>.
+    let stem = file
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or_default();
+    rows.extend(crate::regress_derivatives::check_robot(
+        root, stem, &reference,
+    )?);
     Ok(rows)
 }
 
