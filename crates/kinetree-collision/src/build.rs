@@ -89,7 +89,11 @@ impl CollisionModel {
     /// Each `<collision>` element becomes one shape named `<link>_<k>` placed at its origin on the
     /// link's moving body: boxes (full side lengths), spheres, cylinders (radius and full length
     /// along the element's z axis, centred), capsules (cylindrical length along z) and meshes
-    /// (scaled per axis; STL binary or ASCII, OBJ) as [`MeshMode`] says.
+    /// (scaled per axis by any finite non-zero factors, a negative one mirroring the mesh with
+    /// its winding reversed, see [`TriangleMesh::scaled`]; STL binary or ASCII, OBJ) as
+    /// [`MeshMode`] says.
+    ///
+    /// [`TriangleMesh::scaled`]: crate::mesh::TriangleMesh::scaled
     ///
     /// Candidate pairs: every pair of shapes whose links are on different moving bodies (links
     /// joined by fixed joints form one body), minus pairs whose bodies are parent and child
@@ -243,14 +247,22 @@ pub fn shape_from_geometry(
             Pose::IDENTITY,
         ),
         Geometry::Mesh { filename, scale } => {
+            // Any finite non-zero factor: a negative one mirrors the mesh.
+            let factor = |what: &str, x: f64| {
+                if x.is_finite() && x != 0.0 {
+                    Ok(x)
+                } else {
+                    Err(invalid(format!("{what} = {x} must be finite and non-zero")))
+                }
+            };
             let scale = DVec3::new(
-                check("scale x", scale[0])?,
-                check("scale y", scale[1])?,
-                check("scale z", scale[2])?,
+                factor("scale x", scale[0])?,
+                factor("scale y", scale[1])?,
+                factor("scale z", scale[2])?,
             );
             let path = resolve_mesh_path(filename, &options.mesh_search_paths, owner)?;
-            let mesh = read_mesh_file(&path)?;
-            let vertices: Vec<DVec3> = mesh.vertices.iter().map(|v| *v * scale).collect();
+            let mesh = read_mesh_file(&path)?.scaled(scale);
+            let vertices = mesh.vertices;
             let shape = match options.mesh_mode {
                 MeshMode::ConvexHull => SharedShape::convex_hull(&vertices).ok_or_else(|| {
                     invalid(format!(

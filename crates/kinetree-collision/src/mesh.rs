@@ -20,6 +20,44 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+impl TriangleMesh {
+    /// The mesh scaled per axis by `scale` (URDF's `<mesh scale>`). A scale with an odd number of
+    /// negative factors mirrors the mesh, which would turn its triangles inside out: their winding
+    /// is then reversed, so that normals that pointed outward still do (and
+    /// [`TriangleMesh::signed_volume`] keeps its sign).
+    #[must_use]
+    pub fn scaled(&self, scale: DVec3) -> Self {
+        let mirrored = scale.x * scale.y * scale.z < 0.0;
+        Self {
+            vertices: self.vertices.iter().map(|v| *v * scale).collect(),
+            triangles: self
+                .triangles
+                .iter()
+                .map(|&[a, b, c]| if mirrored { [a, c, b] } else { [a, b, c] })
+                .collect(),
+        }
+    }
+
+    /// The volume enclosed by the mesh (m³ for a mesh in metres), by the divergence theorem:
+    /// positive when the mesh is closed and its triangles are counter-clockwise seen from
+    /// outside (outward normals), negative when they are all inside out. Indices out of range
+    /// count as the origin.
+    #[must_use]
+    pub fn signed_volume(&self) -> f64 {
+        let vertex = |i: u32| {
+            self.vertices
+                .get(i as usize)
+                .copied()
+                .unwrap_or(DVec3::ZERO)
+        };
+        self.triangles
+            .iter()
+            .map(|&[a, b, c]| vertex(a).dot(vertex(b).cross(vertex(c))))
+            .sum::<f64>()
+            / 6.0
+    }
+}
+
 /// The candidate paths for a mesh name, in the order they are tried.
 ///
 /// - `package://pkg/a/b/x.stl`: for every search path `dir`, `dir/pkg/a/b/x.stl`, then

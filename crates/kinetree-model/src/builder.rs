@@ -823,12 +823,18 @@ fn check_link(link: &Link, issues: &mut Vec<Issue>, inertia_issues: &mut Vec<Iss
                 !(radius.is_finite() && *radius >= 0.0 && length.is_finite() && *length >= 0.0)
             }
             Geometry::Sphere { radius } => !(radius.is_finite() && *radius >= 0.0),
-            Geometry::Mesh { scale, .. } => scale.iter().any(|s| !s.is_finite()),
+            // Any finite non-zero factor: a negative one mirrors the mesh.
+            Geometry::Mesh { scale, .. } => scale.iter().any(|s| !s.is_finite() || *s == 0.0),
         };
         if bad {
+            let what = if matches!(geometry, Geometry::Mesh { .. }) {
+                "zero or non-finite mesh scale"
+            } else {
+                "negative or non-finite size"
+            };
             issues.push(Issue::InvalidGeometry {
                 link: link.name.clone(),
-                reason: format!("negative or non-finite size in {geometry:?}"),
+                reason: format!("{what} in {geometry:?}"),
             });
         }
     }

@@ -58,7 +58,8 @@ pub enum Geometry {
     Mesh {
         /// File name or URI as written in the model.
         filename: String,
-        /// Scale along x, y, z.
+        /// Scale along x, y, z: finite and non-zero; a negative factor mirrors the mesh (as
+        /// `scale="1 -1 1"` for a robot's other arm).
         scale: [f64; 3],
     },
 }

@@ -132,3 +132,95 @@ fn the_bundled_panda_finds_its_meshes_next_to_the_urdf() {
         }
     }
 }
+
+/// A box x ∈ [0, 1], y ∈ [0.5, 1.5], z ∈ [0, 1] as an OBJ, triangles counter-clockwise seen
+/// from outside; written to a scratch folder.
+fn offset_box() -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("kinetree-mirror-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("offset_box.obj");
+    let mut text = String::new();
+    for i in 0..8 {
+        let (x, y, z) = (i & 1, (i >> 1) & 1, (i >> 2) & 1);
+        text.push_str(&format!("v {x} {} {z}\n", 0.5 + y as f64));
+    }
+    // Faces as quads (1-based), each counter-clockwise from outside, split in two triangles.
+    for [a, b, c, d] in [
+        [1, 5, 7, 3], // x = 0
+        [2, 4, 8, 6], // x = 1
+        [1, 2, 6, 5], // y = 0.5
+        [3, 7, 8, 4], // y = 1.5
+        [1, 3, 4, 2], // z = 0
+        [5, 6, 8, 7], // z = 1
+    ] {
+        text.push_str(&format!("f {a} {b} {c}\nf {a} {c} {d}\n"));
+    }
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn mirroring_keeps_the_mesh_outward_and_its_volume() {
+    use glam::DVec3;
+    let mesh = read_mesh_file(&offset_box()).unwrap();
+    assert!((mesh.signed_volume() - 1.0).abs() < 1e-12);
+    for (scale, volume) in [
+        (DVec3::new(1.0, -1.0, 1.0), 1.0),
+        (DVec3::new(-1.0, -1.0, 1.0), 1.0),
+        (DVec3::new(2.0, -1.0, 3.0), 6.0),
+        (DVec3::new(-0.5, -2.0, -1.0), 1.0),
+    ] {
+        let scaled = mesh.scaled(scale);
+        assert!(
+            (scaled.signed_volume() - volume).abs() < 1e-12,
+            "{scale}: {}",
+            scaled.signed_volume()
+        );
+        assert_eq!(scaled.vertices[2], mesh.vertices[2] * scale);
+    }
+}
+
+/// `scale="1 -1 1"` mirrors the box to y ∈ [-1.5, -0.5]; a 0.25 m ball on a slider along y,
+/// centred at x = 0.5, z = 0.5, is 0.25 m away at y = 0, penetrates by 0.05 m at y = -0.3 and
+/// is 1.25 m away at y = 1 (where the unmirrored box would hold it).
+#[test]
+fn a_mirrored_mesh_collides_where_its_mirror_image_is() {
+    let file = offset_box();
+    let model = urdf(&format!(
+        r#"<link name="base"/>
+           <link name="a"><collision><geometry><mesh filename="{}" scale="1 -1 1"/></geometry></collision></link>
+           <link name="b"><collision><geometry><sphere radius="0.25"/></geometry></collision></link>
+           <joint name="ja" type="revolute"><parent link="base"/><child link="a"/>
+             <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+           <joint name="jb" type="prismatic"><parent link="base"/><child link="b"/><origin xyz="0.5 0 0.5"/>
+             <axis xyz="0 1 0"/><limit lower="-10" upper="10" effort="1" velocity="1"/></joint>"#,
+        file.display()
+    ));
+    for mode in [MeshMode::ConvexHull, MeshMode::TriMesh] {
+        let options = CollisionOptions::default().with_mesh_mode(mode);
+        let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+        let mut kinematics = KinematicsData::new(&model);
+        let mut data = CollisionData::new(&cmodel);
+        for (y, expected) in [(0.0, 0.25), (-0.3, -0.05), (1.0, 1.25), (-2.0, 0.25)] {
+            let mut q = vec![0.0; 2];
+            q[model.joint_q_range(model.joint_index("jb").unwrap()).start] = y;
+            data.compute_placements(&model, &cmodel, &mut kinematics, &q)
+                .unwrap();
+            let d = compute_distances(&cmodel, &mut data).unwrap()[0].distance;
+            assert!((d - expected).abs() < 1e-9, "{mode:?} y = {y}: {d}");
+        }
+    }
+    // A zero or non-finite factor stays an error naming the link.
+    for scale in ["1 0 1", "1 nan 1", "inf 1 1"] {
+        let text = format!(
+            r#"<robot name="t"><link name="a"><collision><geometry><mesh filename="{}" scale="{scale}"/></geometry></collision></link></robot>"#,
+            file.display()
+        );
+        let e = kinetree_collision::kinematics::model::Model::from_urdf_str(
+            &text,
+            kinetree_collision::kinematics::model::RootJoint::Fixed,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("'a'"), "{scale}: {e}");
+    }
+}
