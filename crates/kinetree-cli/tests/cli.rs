@@ -110,6 +110,50 @@ fn inspect_prints_the_panda() {
 }
 
 #[test]
+fn inspect_and_compute_read_a_dh_table() {
+    // A planar 2R arm as a DH table in mm/deg: links 0.3 m and 0.2 m, a tool 0.05 m further.
+    let dir = scratch("dh");
+    let table = dir.join("arm.dh.json");
+    std::fs::write(
+        &table,
+        r#"{"name": "planar", "convention": "standard", "units": {"length": "mm", "angle": "deg"},
+            "dh": [{"a": 300, "joint": "shoulder", "limits": {"lower": -90, "upper": 90}},
+                   {"a": 200, "joint": "elbow"}],
+            "tool": {"xyz": [50, 0, 0]}}"#,
+    )
+    .unwrap();
+    let o = kinetree(&["inspect", table.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.starts_with("planar (nq = 2, nv = 2)"), "{text}");
+    assert_eq!(
+        row(section(&text, "joints"), "shoulder")[8..10],
+        ["-1.570796", "1.570796"]
+    );
+    assert_eq!(row(section(&text, "frames"), "tool")[2], "[0.25,");
+    // At shoulder = 90°, elbow = -90° the elbow sits at (0, 0.3, 0) and the hand points along x.
+    let states = dir.join("states.json");
+    std::fs::write(
+        &states,
+        r#"{"samples": [{"q": {"shoulder": 1.5707963267948966, "elbow": -1.5707963267948966}}]}"#,
+    )
+    .unwrap();
+    let o = kinetree(&[
+        "compute",
+        table.to_str().unwrap(),
+        "--states",
+        states.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let elbow = flat(&out["samples"][0]["link_poses"]["link2"]["translation"]);
+    assert!(
+        elbow[0].abs() < 1e-12 && (elbow[1] - 0.3).abs() < 1e-12 && elbow[2].abs() < 1e-12,
+        "{elbow:?}"
+    );
+}
+
+#[test]
 fn inspect_floating_adds_the_root_joint() {
     let out = kinetree(&["inspect", "--floating", &panda()]);
     let text = stdout(&out);

@@ -128,6 +128,43 @@ impl DhRow {
         self
     }
 
+    /// The row's homogeneous transform `ᶦ⁻¹Tᵢ` at joint value `joint_value` (rad for a revolute
+    /// row, added to `theta`; m for a prismatic one, added to `d`) in the standard (distal)
+    /// convention, `Rz(θ) · Tz(d) · Tx(a) · Rx(α)`: the textbook's DH matrix.
+    /// [`Se3::to_rows`] gives it as a 4x4 matrix. For a row of a modified table use
+    /// [`DhRow::transform_in`].
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree_model::dh::DhRow;
+    /// // a = 0.5, α = 90°: at θ = 90° the link's x axis points along the parent's y.
+    /// let row = DhRow::revolute(0.5, std::f64::consts::FRAC_PI_2, 0.1, 0.0);
+    /// let m = row.transform(std::f64::consts::FRAC_PI_2).to_rows();
+    /// assert!((m[1][3] - 0.5).abs() < 1e-15 && (m[2][3] - 0.1).abs() < 1e-15);
+    /// ```
+    #[must_use]
+    pub fn transform(&self, joint_value: f64) -> Se3 {
+        self.transform_in(DhConvention::Standard, joint_value)
+    }
+
+    /// The row's homogeneous transform at `joint_value` in `convention`: standard
+    /// `Rz(θ) · Tz(d) · Tx(a) · Rx(α)` or modified `Rx(α) · Tx(a) · Rz(θ) · Tz(d)`, with the joint
+    /// value added to `theta` (revolute, continuous) or `d` (prismatic).
+    #[must_use]
+    pub fn transform_in(&self, convention: DhConvention, joint_value: f64) -> Se3 {
+        let (theta, d) = if self.kind == JointKind::Prismatic {
+            (self.theta, self.d + joint_value)
+        } else {
+            (self.theta + joint_value, self.d)
+        };
+        let rz_tz = Se3::from_rotation_z(theta) * Se3::from_translation(DVec3::Z * d);
+        let tx_rx = Se3::from_translation(DVec3::X * self.a) * Se3::from_rotation_x(self.alpha);
+        match convention {
+            DhConvention::Standard => rz_tz * tx_rx,
+            DhConvention::Modified => tx_rx * rz_tz,
+        }
+    }
+
     /// The part of the row's transform before the joint motion, and the part after it.
     fn split(&self, convention: DhConvention) -> (Se3, Se3) {
         let rz_tz = Se3::from_rotation_z(self.theta) * Se3::from_translation(DVec3::Z * self.d);
@@ -170,6 +207,27 @@ impl DhTable {
     pub fn with_row(mut self, row: DhRow) -> Self {
         self.rows.push(row);
         self
+    }
+
+    /// The pose of DH frame `n` (the last) in DH frame 0 (the base) at joint values `q` (one per
+    /// row): the product of the rows' [`DhRow::transform_in`], without the tool.
+    ///
+    /// # Errors
+    /// [`ModelError::DhTable`] when `q` does not have one value per row.
+    pub fn transform(&self, q: &[f64]) -> Result<Se3, ModelError> {
+        if q.len() != self.rows.len() {
+            return Err(ModelError::DhTable {
+                row: q.len().min(self.rows.len()),
+                message: format!(
+                    "{} joint values given for {} rows",
+                    q.len(),
+                    self.rows.len()
+                ),
+            });
+        }
+        Ok(self.rows.iter().zip(q).fold(Se3::IDENTITY, |t, (row, &x)| {
+            t * row.transform_in(self.convention, x)
+        }))
     }
 
     /// Sets the tool pose in the last DH frame.

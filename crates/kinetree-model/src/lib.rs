@@ -63,6 +63,7 @@
 mod builder;
 mod compare;
 pub mod dh;
+pub mod dh_json;
 mod error;
 mod frame;
 mod joint;

@@ -3,6 +3,7 @@
 mod allocation;
 mod bad_input;
 mod common;
+mod dh;
 mod finite_differences;
 mod frame_id;
 mod ik;

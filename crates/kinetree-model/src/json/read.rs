@@ -142,6 +142,9 @@ pub(super) fn from_json(
     root: Option<RootJoint>,
     file: Option<&Path>,
 ) -> Result<Model, ModelError> {
+    if crate::dh_json::is_dh_document(text) {
+        return dh_from_json(text, root, file);
+    }
     let doc: ModelDoc = serde_json::from_str(text).map_err(|e| json_error(&e, file))?;
     if let Some(v) = doc.version.filter(|&v| v != JSON_SCHEMA_VERSION) {
         return Err(schema_error(
@@ -270,4 +273,33 @@ pub(super) fn from_json(
         b.add_frame(spec);
     }
     b.build()
+}
+
+/// A DH table document (see [`crate::dh_json`]) built into its arm.
+fn dh_from_json(
+    text: &str,
+    root: Option<RootJoint>,
+    file: Option<&Path>,
+) -> Result<Model, ModelError> {
+    if root == Some(RootJoint::Floating) {
+        return Err(schema_error(
+            file,
+            "a Denavit-Hartenberg table describes a fixed-base arm; it cannot float".into(),
+        ));
+    }
+    let table = crate::dh::DhTable::from_json_str(text).map_err(|e| match e {
+        ModelError::Json {
+            line,
+            column,
+            message,
+            ..
+        } => ModelError::Json {
+            file: file.map(Path::to_path_buf),
+            line,
+            column,
+            message,
+        },
+        other => other,
+    })?;
+    Model::from_dh(&table)
 }
