@@ -3,7 +3,6 @@
 use crate::data::{DynamicsData, sign};
 use crate::error::{DynamicsError, check_vector};
 use crate::external::ExternalForces;
-use crate::joint_ops::placed_transform;
 use crate::rnea::check_inputs;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
@@ -105,7 +104,7 @@ pub(crate) fn compute(
     for i in 1..nb {
         let b = &bodies[i];
         let jm = &joint_models[i];
-        let x = placed_transform(jm, &b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
         let p = b.parent;
         let world_from_body = if p == 0 {
             x

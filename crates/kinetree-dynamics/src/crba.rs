@@ -2,9 +2,6 @@
 
 use crate::data::DynamicsData;
 use crate::error::DynamicsError;
-use crate::joint_ops::{
-    Kind, Rot, act_force, act_inertia, axis_momentum, placed_transform_factored, project_1dof,
-};
 use crate::rnea::check_inputs;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Force;
@@ -71,13 +68,12 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
     for i in 1..bodies.len() {
         let b = &bodies[i];
         let (x, jr) =
-            placed_transform_factored(&joint_models[i], &b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+            joint_models[i].placed_transform_factored(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
         data.parent_from_body[i] = x;
         data.joint_rot[i] = jr;
         data.composite[i] = data.body_inertia[i];
     }
     let m = &mut data.mass_matrix;
-    let kinds = &data.kinds;
     let mut f = [Force::ZERO; 6];
     let mut col = [0.0; 6];
     for i in (1..bodies.len()).rev() {
@@ -85,15 +81,10 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
         let (iv, ni) = (b.idx_v, b.nv);
         let ic = data.composite[i];
         // F = Icᵢ·Sᵢ and the diagonal block Sᵢᵀ·Icᵢ·Sᵢ.
-        let f0 = match kinds[i] {
-            Kind::RevoluteAxis(0) => axis_momentum::<0, true>(&ic),
-            Kind::RevoluteAxis(1) => axis_momentum::<1, true>(&ic),
-            Kind::RevoluteAxis(_) => axis_momentum::<2, true>(&ic),
-            Kind::PrismaticAxis(0) => axis_momentum::<0, false>(&ic),
-            Kind::PrismaticAxis(1) => axis_momentum::<1, false>(&ic),
-            Kind::PrismaticAxis(_) => axis_momentum::<2, false>(&ic),
-            Kind::Other => {
-                let jm = &joint_models[i];
+        let jm = &joint_models[i];
+        let f0 = match jm.axis_momentum(&ic) {
+            Some(f0) => f0,
+            None => {
                 for k in 0..ni {
                     f[k] = ic.mul_motion(&jm.subspace_column(k));
                 }
@@ -110,7 +101,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
         if ni == 1 {
             // The common case, one column: carry it up to every ancestor.
             let mut fk = f0;
-            if let Some(d) = project_1dof(kinds[i], &fk) {
+            if let Some(d) = jm.project_axis(&fk) {
                 m[iv * nv + iv] = d;
             }
             let mut j = i;
@@ -119,10 +110,10 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                 if p == 0 {
                     break;
                 }
-                fk = act_force(&data.parent_from_body[j], &fk);
+                fk = data.parent_from_body[j].act_force(&fk);
                 j = p;
                 let jv = bodies[j].idx_v;
-                match project_1dof(kinds[j], &fk) {
+                match joint_models[j].project_axis(&fk) {
                     Some(x) => {
                         m[jv * nv + iv] = x;
                         m[iv * nv + jv] = x;
@@ -145,7 +136,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                     break;
                 }
                 for fk in f[..ni].iter_mut() {
-                    *fk = act_force(&data.parent_from_body[j], fk);
+                    *fk = data.parent_from_body[j].act_force(fk);
                 }
                 j = p;
                 let (jv, nj) = (bodies[j].idx_v, bodies[j].nv);
@@ -159,22 +150,12 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
             }
         }
         if b.parent != 0 {
-            let x = &data.parent_from_body[i];
-            let moved = if kinds[i] == Kind::Other {
-                act_inertia(
-                    &ic,
-                    data.joint_rot[i],
-                    &Rot::General(x.rotation),
-                    x.translation,
-                )
-            } else {
-                act_inertia(
-                    &ic,
-                    data.joint_rot[i],
-                    &data.placement_rot[i],
-                    x.translation,
-                )
-            };
+            let moved = jm.inertia_to_parent(
+                &ic,
+                data.joint_rot[i],
+                &data.placement_rot[i],
+                &data.parent_from_body[i],
+            );
             data.composite[b.parent].add_assign(&moved);
         }
     }

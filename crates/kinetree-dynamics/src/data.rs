@@ -2,11 +2,11 @@
 
 use crate::aba::ArticulatedInertia;
 use crate::error::DynamicsError;
-use crate::joint_ops::{JointRot, Kind, OriginInertia, Rot};
 use kinetree_kinematics::KinematicsData;
+use kinetree_kinematics::joint::JointRot;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::{Force, Motion, Se3};
+use kinetree_kinematics::spatial::{Force, Motion, OriginInertia, RotationForm, Se3};
 
 /// Marks "no parent" in the degree-of-freedom parent array.
 pub(crate) const NO_PARENT: usize = usize::MAX;
@@ -86,9 +86,7 @@ pub struct DynamicsData {
     /// Each body's inertia about its origin (constant, from the model).
     pub(crate) body_inertia: Vec<OriginInertia>,
     /// The form of each body's placement rotation (constant, from the model).
-    pub(crate) placement_rot: Vec<Rot>,
-    /// The dispatch kind of each body's joint (constant, from the model).
-    pub(crate) kinds: Vec<Kind>,
+    pub(crate) placement_rot: Vec<RotationForm>,
     /// The joint rotation of each body in the last sweep, when about a coordinate axis.
     pub(crate) joint_rot: Vec<JointRot>,
     pub(crate) articulated: Vec<ArticulatedInertia>,
@@ -161,7 +159,6 @@ impl DynamicsData {
             };
         }
         let kinematics = KinematicsData::new(model);
-        let kinds = kinematics.joint_models().iter().map(Kind::of).collect();
         let mut data = Self {
             kinematics,
             nq: model.nq(),
@@ -194,11 +191,9 @@ impl DynamicsData {
                 .collect(),
             placement_rot: bodies
                 .iter()
-                .map(|b| Rot::classify(&b.placement.rotation))
+                .map(|b| RotationForm::classify(&b.placement.rotation))
                 .collect(),
             joint_rot: vec![JointRot::NONE; nb],
-
-            kinds,
             articulated: vec![ArticulatedInertia::ZERO; nb],
             bias: vec![Motion::ZERO; nb],
             subspace: vec![Motion::ZERO; nv],

@@ -163,14 +163,7 @@ pub fn joint_transform_motion_subspace_66(
     joint: &JointModel,
     q: &[f64],
 ) -> Result<JointTransformMotionSubspace66, DynamicsError> {
-    let nq = match joint {
-        JointModel::Fixed => 0,
-        JointModel::Cylindrical(_) => 2,
-        JointModel::Spherical => 4,
-        JointModel::Planar { .. } => 3,
-        JointModel::Floating => 7,
-        _ => 1,
-    };
+    let nq = joint.nq();
     check_vector("q", q, nq)?;
     if let JointModel::Spherical | JointModel::Floating = joint {
         let r = &q[nq - 4..];

@@ -6,7 +6,6 @@ use crate::external::ExternalForces;
 use crate::rnea::check_inputs;
 use kinetree_kinematics::configuration::integrate;
 use kinetree_kinematics::model::Model;
-use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::{JointModel, configuration};
 
 /// A fixed-step integration scheme for [`step`].
@@ -246,9 +245,8 @@ fn rk4(
     Ok(())
 }
 
-/// `out = dexp⁻¹_{-θ}(ξ) ≈ ξ + ½[θ, ξ] + 1/12·[θ, [θ, ξ]]` per joint, the tangent-space
-/// derivative of `θ` for `q·exp(θ)` moving with body velocity `ξ`. Vector-space joints
-/// (revolute, prismatic, cylindrical) commute: `out = ξ`.
+/// `out = dexp⁻¹_{-θ}(ξ)` per joint ([`JointModel::dexp_inv`]), the tangent-space derivative
+/// of `θ` for `q·exp(θ)` moving with body velocity `ξ`.
 fn dexp_inv(
     model: &Model,
     joint_models: &[JointModel],
@@ -256,29 +254,9 @@ fn dexp_inv(
     xi: &[f64],
     out: &mut [f64],
 ) {
-    out.copy_from_slice(xi);
-    for (i, b) in model.bodies().iter().enumerate().skip(1) {
-        let jm = &joint_models[i];
-        if !matches!(
-            jm,
-            JointModel::Spherical | JointModel::Planar { .. } | JointModel::Floating
-        ) {
-            continue;
-        }
+    for (b, jm) in model.bodies().iter().zip(joint_models).skip(1) {
         let r = b.idx_v..b.idx_v + b.nv;
-        let t = jm.motion(&theta[r.clone()]);
-        let x = jm.motion(&xi[r.clone()]);
-        let tx = t.cross_motion(&x);
-        let corrected = x + tx * 0.5 + t.cross_motion(&tx) * (1.0 / 12.0);
-        coordinates(jm, &corrected, &mut out[r]);
-    }
-}
-
-/// The joint coordinates of a twist in the span of an orthonormal motion subspace.
-fn coordinates(jm: &JointModel, m: &Motion, out: &mut [f64]) {
-    for (k, o) in out.iter_mut().enumerate() {
-        let s = jm.subspace_column(k);
-        *o = s.linear.dot(m.linear) + s.angular.dot(m.angular);
+        jm.dexp_inv(&theta[r.clone()], &xi[r.clone()], &mut out[r]);
     }
 }
 

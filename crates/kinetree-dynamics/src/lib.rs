@@ -74,7 +74,6 @@ mod external;
 pub mod exudyn;
 mod factor;
 mod integrator;
-mod joint_ops;
 mod limits;
 mod rnea;
 

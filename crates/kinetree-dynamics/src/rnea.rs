@@ -3,8 +3,9 @@
 use crate::data::{DynamicsData, sign};
 use crate::error::{DynamicsError, check_output, check_vector};
 use crate::external::ExternalForces;
-use crate::joint_ops::{Kind, act_force, cross_axis, inv_motion, placed_transform};
+use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::axis::cross_unit;
 use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::{Motion, Se3};
 
@@ -175,7 +176,7 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
     for i in 1..bodies.len() {
         let b = &bodies[i];
         let jm = &joint_models[i];
-        let x = placed_transform(jm, &b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
         data.parent_from_body[i] = x;
         let p = b.parent;
         if world {
@@ -193,28 +194,28 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
         };
         let scalar = |s: &[f64]| if s.is_empty() { 0.0 } else { s[b.idx_v] };
         let (qd, qdd) = (scalar(v), scalar(a));
-        let (vi, ai) = match Kind::of(jm) {
-            Kind::RevoluteAxis(0) => {
+        let (vi, ai) = match jm {
+            JointModel::RevoluteX => {
                 body::<VEL, ACC, 0, true>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
-            Kind::RevoluteAxis(1) => {
+            JointModel::RevoluteY => {
                 body::<VEL, ACC, 1, true>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
-            Kind::RevoluteAxis(_) => {
+            JointModel::RevoluteZ => {
                 body::<VEL, ACC, 2, true>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
-            Kind::PrismaticAxis(0) => {
+            JointModel::PrismaticX => {
                 body::<VEL, ACC, 0, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
-            Kind::PrismaticAxis(1) => {
+            JointModel::PrismaticY => {
                 body::<VEL, ACC, 1, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
-            Kind::PrismaticAxis(_) => {
+            JointModel::PrismaticZ => {
                 body::<VEL, ACC, 2, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
-            Kind::Other => {
+            _ => {
                 let r = b.idx_v..b.idx_v + b.nv;
-                let mut ai = inv_motion(&x, &parent_a);
+                let mut ai = x.act_inv_motion(&parent_a);
                 if ACC {
                     ai += jm.motion(&a[r.clone()]);
                 }
@@ -224,7 +225,7 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
                     vi = if p == 0 {
                         vj
                     } else {
-                        inv_motion(&x, &parent_v) + vj
+                        x.act_inv_motion(&parent_v) + vj
                     };
                     ai += vi.cross_motion(&vj);
                 }
@@ -253,13 +254,12 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
         let b = &bodies[i];
         let fi = data.force[i];
         let jm = &joint_models[i];
-        match Kind::of(jm) {
-            Kind::RevoluteAxis(k) => out[b.idx_v] = fi.angular[k],
-            Kind::PrismaticAxis(k) => out[b.idx_v] = fi.linear[k],
-            Kind::Other => jm.project_force(&fi, &mut out[b.idx_v..b.idx_v + b.nv]),
+        match jm.project_axis(&fi) {
+            Some(x) => out[b.idx_v] = x,
+            None => jm.project_force(&fi, &mut out[b.idx_v..b.idx_v + b.nv]),
         }
         if b.parent != 0 {
-            let fp = act_force(&data.parent_from_body[i], &fi);
+            let fp = data.parent_from_body[i].act_force(&fi);
             data.force[b.parent] += fp;
         }
     }
@@ -288,7 +288,7 @@ fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool>(
     qd: f64,
     qdd: f64,
 ) -> (Motion, Motion) {
-    let mut ai = inv_motion(x, parent_a);
+    let mut ai = x.act_inv_motion(parent_a);
     if ACC {
         if REV {
             ai.angular[K] += qdd;
@@ -299,16 +299,16 @@ fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool>(
     let mut vi = Motion::ZERO;
     if VEL {
         if parent != 0 {
-            vi = inv_motion(x, parent_v);
+            vi = x.act_inv_motion(parent_v);
         }
         // a += v ×ₘ vj, with vj = qd·e_K (angular or linear); exactly zero when v = vj.
         if REV {
             vi.angular[K] += qd;
-            ai.linear += cross_axis::<K>(vi.linear, qd);
-            ai.angular += cross_axis::<K>(vi.angular, qd);
+            ai.linear += cross_unit::<K>(vi.linear, qd);
+            ai.angular += cross_unit::<K>(vi.angular, qd);
         } else {
             vi.linear[K] += qd;
-            ai.linear += cross_axis::<K>(vi.angular, qd);
+            ai.linear += cross_unit::<K>(vi.angular, qd);
         }
     }
     (vi, ai)

@@ -16,9 +16,8 @@
 //! translations in [-1, 1] m; rotations of spherical and floating joints are uniform on SO(3).
 
 use crate::error::{KinematicsError, check_q, check_vector};
-use crate::joint_model::quat;
-use glam::{DQuat, DVec3};
-use kinetree_model::spatial::{Motion, Se3, explog, rotation};
+pub use crate::joint::{difference_joint, integrate_joint, wrap_angle};
+use glam::DQuat;
 use kinetree_model::{JointKind, Model};
 use rand::Rng;
 use std::f64::consts::PI;
@@ -129,64 +128,6 @@ pub fn random_configuration<R: Rng + ?Sized>(
     Ok(())
 }
 
-/// The SE(2) exponential of a body velocity `(vx, vy, ω)`: the local displacement `(dx, dy)`.
-fn se2_exp_translation(vx: f64, vy: f64, w: f64) -> (f64, f64) {
-    let (a, b) = se2_v(w);
-    (a * vx - b * vy, b * vx + a * vy)
-}
-
-/// Entries of `V(ω) = [[a, -b], [b, a]]` with `a = sin ω / ω`, `b = (1 - cos ω)/ω`.
-fn se2_v(w: f64) -> (f64, f64) {
-    if w.abs() < 1e-6 {
-        (1.0 - w * w / 6.0, w / 2.0 - w * w * w / 24.0)
-    } else {
-        let half = (0.5 * w).sin();
-        (w.sin() / w, 2.0 * half * half / w)
-    }
-}
-
-fn floating_pose(q: &[f64]) -> Se3 {
-    Se3::from_translation_quat(DVec3::new(q[0], q[1], q[2]), quat(&q[3..7]).normalize())
-}
-
-fn write_floating(t: &Se3, q: &mut [f64]) {
-    q[..3].copy_from_slice(&t.translation.to_array());
-    q[3..7].copy_from_slice(&DQuat::from_mat3(&t.rotation).normalize().to_array());
-}
-
-/// `q ⊕ v` for one joint's blocks (lengths `kind.nq()`, `kind.nv()`, `kind.nq()`).
-///
-/// # Panics
-/// When a block is shorter than the kind requires.
-pub fn integrate_joint(kind: JointKind, qi: &[f64], vi: &[f64], qo: &mut [f64]) {
-    match kind {
-        JointKind::Fixed => {}
-        JointKind::Revolute
-        | JointKind::Continuous
-        | JointKind::Prismatic
-        | JointKind::Cylindrical => {
-            for k in 0..kind.nq() {
-                qo[k] = qi[k] + vi[k];
-            }
-        }
-        JointKind::Spherical => {
-            let r = quat(qi).normalize() * DQuat::from_scaled_axis(DVec3::new(vi[0], vi[1], vi[2]));
-            qo[..4].copy_from_slice(&r.normalize().to_array());
-        }
-        JointKind::Planar => {
-            let (dx, dy) = se2_exp_translation(vi[0], vi[1], vi[2]);
-            let (s, c) = qi[2].sin_cos();
-            qo[0] = qi[0] + c * dx - s * dy;
-            qo[1] = qi[1] + s * dx + c * dy;
-            qo[2] = qi[2] + vi[2];
-        }
-        JointKind::Floating => {
-            let t = floating_pose(qi) * explog::exp6(&Motion::from_slice(vi));
-            write_floating(&t, qo);
-        }
-    }
-}
-
 /// Writes `q ⊕ v` (the configuration reached from `q` after moving with velocity `v` for unit
 /// time) into `q_out`. Quaternions in the result are normalized. Allocates nothing.
 ///
@@ -212,42 +153,6 @@ pub fn integrate(
     Ok(())
 }
 
-/// The velocity taking `a` to `c` for one joint's blocks (see [`difference`]).
-///
-/// # Panics
-/// When a block is shorter than the kind requires.
-pub fn difference_joint(kind: JointKind, a: &[f64], c: &[f64], vo: &mut [f64]) {
-    match kind {
-        JointKind::Fixed => {}
-        JointKind::Continuous => vo[0] = wrap_angle(c[0] - a[0]),
-        JointKind::Revolute | JointKind::Prismatic | JointKind::Cylindrical => {
-            for k in 0..kind.nq() {
-                vo[k] = c[k] - a[k];
-            }
-        }
-        JointKind::Spherical => {
-            let r0 = glam::DMat3::from_quat(quat(a).normalize());
-            let r1 = glam::DMat3::from_quat(quat(c).normalize());
-            vo[..3].copy_from_slice(&rotation::log3(&(r0.transpose() * r1)).to_array());
-        }
-        JointKind::Planar => {
-            let w = c[2] - a[2];
-            let (s, co) = a[2].sin_cos();
-            let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
-            let (lx, ly) = (co * dx + s * dy, -s * dx + co * dy);
-            let (p, m) = se2_v(w);
-            let det = p * p + m * m;
-            vo[0] = (p * lx + m * ly) / det;
-            vo[1] = (-m * lx + p * ly) / det;
-            vo[2] = w;
-        }
-        JointKind::Floating => {
-            let d = explog::log6(&floating_pose(a).inv_mul(&floating_pose(c)));
-            d.write_to_slice(vo);
-        }
-    }
-}
-
 /// Writes the velocity `v` with `q0 ⊕ v = q1` into `v_out` (continuous joints take the short way
 /// round). Allocates nothing.
 ///
@@ -271,14 +176,6 @@ pub fn difference(
         );
     }
     Ok(())
-}
-
-/// Wraps an angle to (-π, π].
-#[inline]
-#[must_use]
-pub fn wrap_angle(x: f64) -> f64 {
-    let y = x.rem_euclid(2.0 * PI);
-    if y > PI { y - 2.0 * PI } else { y }
 }
 
 /// Writes the configuration a fraction `t` of the way from `q0` to `q1` (geodesic on each joint's
@@ -585,6 +482,8 @@ pub fn from_named<N: AsRef<str>, V: AsRef<[f64]>>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
+    use kinetree_model::spatial::Se3;
     use kinetree_model::{JointSpec, Link, ModelBuilder};
     use rand::SeedableRng;
 

@@ -1,7 +1,7 @@
 //! [`KinematicsData`]: every buffer the kinematics algorithms write, allocated once per model.
 
 use crate::error::KinematicsError;
-use crate::joint_model::JointModel;
+use crate::joint::JointModel;
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
 

@@ -58,7 +58,7 @@ mod forward;
 mod group;
 pub mod ik;
 mod jacobian;
-mod joint_model;
+pub mod joint;
 pub mod lie_jacobians;
 pub mod reachable;
 
@@ -83,7 +83,7 @@ pub use jacobian::{
     compute_joint_jacobians_time_variation, frame_jacobian, frame_jacobian_time_variation,
     jacobian_to_rows,
 };
-pub use joint_model::JointModel;
+pub use joint::JointModel;
 pub use kinetree_model as model;
 pub use kinetree_model::spatial;
 pub use lie_jacobians::{difference_jacobians, integrate_jacobians};

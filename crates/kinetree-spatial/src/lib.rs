@@ -4,6 +4,10 @@
 //! vectors ([`Motion`], [`Force`]) and spatial inertias ([`Inertia`], [`Symmetric3`]), all in `f64`
 //! on top of glam. Every other layer computes with these types; none of them allocates.
 //!
+//! The kernels of the body sweeps live here too, so that kinematics and dynamics share them:
+//! [`OriginInertia`] (the composite-inertia form), [`RotationForm`] (rotations about a coordinate
+//! axis applied in a few multiplications) and [`axis`] (cross products with a coordinate axis).
+//!
 //! ```
 //! use kinetree_spatial::{explog, Motion, Se3};
 //! use glam::DVec3;
@@ -35,10 +39,13 @@
 //! ## Optional cargo features
 //! - `serde`: `Serialize`/`Deserialize` for the value types.
 
+pub mod axis;
 pub mod explog;
 mod inertia;
 mod motion;
+mod origin_inertia;
 pub mod rotation;
+mod rotation_form;
 mod se3;
 mod symmetric3;
 
@@ -46,5 +53,7 @@ pub use glam;
 pub use glam::{DMat3, DMat4, DQuat, DVec3};
 pub use inertia::Inertia;
 pub use motion::{Force, Motion};
+pub use origin_inertia::OriginInertia;
+pub use rotation_form::RotationForm;
 pub use se3::Se3;
 pub use symmetric3::{InertiaDefect, Symmetric3};

@@ -290,14 +290,16 @@ impl Se3 {
     #[inline]
     #[must_use]
     pub fn inverse_transform_point(&self, p: DVec3) -> DVec3 {
-        self.rotation.transpose() * (p - self.translation)
+        self.inverse_transform_vector(p - self.translation)
     }
 
     /// Maps a direction from the target frame back to the source frame: `Rᵀ·v`.
     #[inline]
     #[must_use]
     pub fn inverse_transform_vector(&self, v: DVec3) -> DVec3 {
-        self.rotation.transpose() * v
+        // Rᵀ·v as three dot products, without forming the transpose.
+        let r = &self.rotation;
+        DVec3::new(r.x_axis.dot(v), r.y_axis.dot(v), r.z_axis.dot(v))
     }
 
     /// Expresses in frame `a` a motion given in frame `b` (for `self = a_from_b`):
@@ -310,19 +312,19 @@ impl Se3 {
     }
 
     /// Expresses in frame `b` a motion given in frame `a` (the inverse of [`Se3::act_motion`]).
-    #[inline]
+    /// A kernel of every body sweep (always inlined).
+    #[inline(always)]
     #[must_use]
     pub fn act_inv_motion(&self, m: &Motion) -> Motion {
-        let rt = self.rotation.transpose();
         Motion::new(
-            rt * (m.linear - self.translation.cross(m.angular)),
-            rt * m.angular,
+            self.inverse_transform_vector(m.linear - self.translation.cross(m.angular)),
+            self.inverse_transform_vector(m.angular),
         )
     }
 
     /// Expresses in frame `a` a force given in frame `b` (for `self = a_from_b`):
-    /// `[R·f; R·n + t × (R·f)]`.
-    #[inline]
+    /// `[R·f; R·n + t × (R·f)]`. A kernel of every body sweep (always inlined).
+    #[inline(always)]
     #[must_use]
     pub fn act_force(&self, f: &Force) -> Force {
         let lin = self.rotation * f.linear;
@@ -333,10 +335,9 @@ impl Se3 {
     #[inline]
     #[must_use]
     pub fn act_inv_force(&self, f: &Force) -> Force {
-        let rt = self.rotation.transpose();
         Force::new(
-            rt * f.linear,
-            rt * (f.angular - self.translation.cross(f.linear)),
+            self.inverse_transform_vector(f.linear),
+            self.inverse_transform_vector(f.angular - self.translation.cross(f.linear)),
         )
     }
 

@@ -197,7 +197,58 @@ impl Symmetric3 {
     #[inline]
     #[must_use]
     pub fn rotate(&self, r: &DMat3) -> Self {
-        Self::from_mat3(&(*r * self.to_mat3() * r.transpose()))
+        // M = R·S by columns, then (M·Rᵀ)_ij = Σ_k M_ik·R_jk for the six entries i ≤ j only.
+        let m0 = *r * self.column(0);
+        let m1 = *r * self.column(1);
+        let m2 = *r * self.column(2);
+        let entry =
+            |i: usize, j: usize| m0[i] * r.x_axis[j] + m1[i] * r.y_axis[j] + m2[i] * r.z_axis[j];
+        Self::new(
+            entry(0, 0),
+            entry(0, 1),
+            entry(0, 2),
+            entry(1, 1),
+            entry(1, 2),
+            entry(2, 2),
+        )
+    }
+
+    /// Column (= row) `k` of the matrix (`k` is 0, 1 or 2; larger values give column 2).
+    #[inline(always)]
+    #[must_use]
+    pub fn column(&self, k: usize) -> DVec3 {
+        match k {
+            0 => DVec3::new(self.xx, self.xy, self.xz),
+            1 => DVec3::new(self.xy, self.yy, self.yz),
+            _ => DVec3::new(self.xz, self.yz, self.zz),
+        }
+    }
+
+    /// Entry `(i, j)` (indices 0, 1, 2; larger values count as 2).
+    #[inline(always)]
+    #[must_use]
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        match (i.min(j), i.max(j)) {
+            (0, 0) => self.xx,
+            (0, 1) => self.xy,
+            (0, _) => self.xz,
+            (1, 1) => self.yy,
+            (1, _) => self.yz,
+            _ => self.zz,
+        }
+    }
+
+    /// Sets entry `(i, j)` and its mirror `(j, i)` (indices as [`Symmetric3::get`]).
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, j: usize, x: f64) {
+        match (i.min(j), i.max(j)) {
+            (0, 0) => self.xx = x,
+            (0, 1) => self.xy = x,
+            (0, _) => self.xz = x,
+            (1, 1) => self.yy = x,
+            (1, _) => self.yz = x,
+            _ => self.zz = x,
+        }
     }
 
     /// `Rᵀ · self · R`.

@@ -1,12 +1,13 @@
-//! Per-joint algebra: joint transforms and motion subspaces, specialised by kind and axis.
+//! [`JointModel`]: the joint kinds specialised by axis, their sizes and motion subspaces.
 //!
 //! Every joint kind's motion subspace `S` is constant in the child (body) frame, so the joint's
 //! velocity is `S · q̇` and its bias acceleration `Ṡ · q̇` is zero. This holds because the
 //! spherical, planar and floating joints take their velocities in the child frame (see
 //! [`JointKind`]).
 
-use glam::{DMat3, DQuat, DVec3};
-use kinetree_model::spatial::{Force, Motion, Se3};
+use glam::{DQuat, DVec3};
+use kinetree_model::spatial::axis::unit_cross;
+use kinetree_model::spatial::{Force, Motion, OriginInertia};
 use kinetree_model::{Body, JointKind, plane_basis};
 
 /// A joint specialised for fast evaluation: axis-aligned revolute and prismatic joints skip the
@@ -98,6 +99,67 @@ impl JointModel {
         }
     }
 
+    /// Number of configuration coordinates (4 for a ball joint's quaternion, 7 for a free joint).
+    #[inline]
+    #[must_use]
+    pub fn nq(&self) -> usize {
+        match self {
+            Self::Spherical => 4,
+            Self::Floating => 7,
+            _ => self.nv(),
+        }
+    }
+
+    /// The coordinate axis of a joint that is revolute about (`true`) or prismatic along
+    /// (`false`) the x, y or z axis (0, 1, 2): the kinds whose sweeps skip the zero entries of the
+    /// motion subspace. `None` for every other kind.
+    #[inline(always)]
+    #[must_use]
+    pub fn axis_index(&self) -> Option<(usize, bool)> {
+        match self {
+            Self::RevoluteX => Some((0, true)),
+            Self::RevoluteY => Some((1, true)),
+            Self::RevoluteZ => Some((2, true)),
+            Self::PrismaticX => Some((0, false)),
+            Self::PrismaticY => Some((1, false)),
+            Self::PrismaticZ => Some((2, false)),
+            _ => None,
+        }
+    }
+
+    /// `Sᵀ·f` of a joint with one degree of freedom about or along a coordinate axis (see
+    /// [`JointModel::axis_index`]); `None` for other kinds (use [`JointModel::project_force`]).
+    #[inline(always)]
+    #[must_use]
+    pub fn project_axis(&self, f: &Force) -> Option<f64> {
+        match self {
+            Self::RevoluteX => Some(f.angular.x),
+            Self::RevoluteY => Some(f.angular.y),
+            Self::RevoluteZ => Some(f.angular.z),
+            Self::PrismaticX => Some(f.linear.x),
+            Self::PrismaticY => Some(f.linear.y),
+            Self::PrismaticZ => Some(f.linear.z),
+            _ => None,
+        }
+    }
+
+    /// The momentum `I·S` of an inertia `y` (about the child frame's origin) moving with the
+    /// joint's single subspace column, for the joints of [`JointModel::axis_index`]; `None` for
+    /// other kinds (use [`JointModel::subspace_column`]).
+    #[inline(always)]
+    #[must_use]
+    pub fn axis_momentum(&self, y: &OriginInertia) -> Option<Force> {
+        Some(match self {
+            Self::RevoluteX => axis_momentum::<0, true>(y),
+            Self::RevoluteY => axis_momentum::<1, true>(y),
+            Self::RevoluteZ => axis_momentum::<2, true>(y),
+            Self::PrismaticX => axis_momentum::<0, false>(y),
+            Self::PrismaticY => axis_momentum::<1, false>(y),
+            Self::PrismaticZ => axis_momentum::<2, false>(y),
+            _ => return None,
+        })
+    }
+
     /// Number of velocity coordinates.
     #[inline]
     #[must_use]
@@ -111,70 +173,6 @@ impl JointModel {
         }
     }
 
-    /// `parent_from_child` of `placement * joint_motion(q)`, computed without forming the joint
-    /// motion where the axis is aligned. `q` is the joint's block of the configuration.
-    #[inline]
-    #[must_use]
-    pub fn placed_transform(&self, placement: &Se3, q: &[f64]) -> Se3 {
-        let r = &placement.rotation;
-        match *self {
-            Self::RevoluteX => {
-                let (s, c) = q[0].sin_cos();
-                Se3::new(
-                    DMat3::from_cols(
-                        r.x_axis,
-                        r.y_axis * c + r.z_axis * s,
-                        r.z_axis * c - r.y_axis * s,
-                    ),
-                    placement.translation,
-                )
-            }
-            Self::RevoluteY => {
-                let (s, c) = q[0].sin_cos();
-                Se3::new(
-                    DMat3::from_cols(
-                        r.x_axis * c - r.z_axis * s,
-                        r.y_axis,
-                        r.x_axis * s + r.z_axis * c,
-                    ),
-                    placement.translation,
-                )
-            }
-            Self::RevoluteZ => {
-                let (s, c) = q[0].sin_cos();
-                Se3::new(
-                    DMat3::from_cols(
-                        r.x_axis * c + r.y_axis * s,
-                        r.y_axis * c - r.x_axis * s,
-                        r.z_axis,
-                    ),
-                    placement.translation,
-                )
-            }
-            Self::PrismaticX => Se3::new(*r, placement.translation + r.x_axis * q[0]),
-            Self::PrismaticY => Se3::new(*r, placement.translation + r.y_axis * q[0]),
-            Self::PrismaticZ => Se3::new(*r, placement.translation + r.z_axis * q[0]),
-            Self::Prismatic(a) => Se3::new(*r, placement.translation + *r * (a * q[0])),
-            Self::Fixed => *placement,
-            // Floating roots and many ball joints sit at the identity: skip the product.
-            _ if *placement == Se3::IDENTITY => self.transform(q),
-            _ => *placement * self.transform(q),
-        }
-    }
-
-    /// `parent_from_body` of `body` (whose joint model this is) for the full configuration `q`.
-    /// A coupled mimic body uses `multiplier · q_leader + offset`.
-    #[inline]
-    #[must_use]
-    pub fn body_transform(&self, body: &Body, q: &[f64]) -> Se3 {
-        match &body.mimic {
-            None => self.placed_transform(&body.placement, &q[body.idx_q..body.idx_q + body.nq]),
-            Some(m) => {
-                self.placed_transform(&body.placement, &[m.multiplier * q[body.idx_q] + m.offset])
-            }
-        }
-    }
-
     /// The joint velocity `S · v` of `body` for the full velocity vector `v` (a coupled mimic body
     /// moves at `multiplier · v_leader`).
     #[inline]
@@ -183,30 +181,6 @@ impl JointModel {
         match &body.mimic {
             None => self.motion(&v[body.idx_v..body.idx_v + body.nv]),
             Some(m) => self.motion(&[m.multiplier * v[body.idx_v]]),
-        }
-    }
-
-    /// The joint motion `joint_from_child` for configuration block `q`.
-    #[must_use]
-    pub fn transform(&self, q: &[f64]) -> Se3 {
-        match *self {
-            Self::Fixed => Se3::IDENTITY,
-            Self::RevoluteX => Se3::from_rotation_x(q[0]),
-            Self::RevoluteY => Se3::from_rotation_y(q[0]),
-            Self::RevoluteZ => Se3::from_rotation_z(q[0]),
-            Self::Revolute(a) => Se3::from_axis_angle(a, q[0]),
-            Self::PrismaticX => Se3::from_translation(DVec3::X * q[0]),
-            Self::PrismaticY => Se3::from_translation(DVec3::Y * q[0]),
-            Self::PrismaticZ => Se3::from_translation(DVec3::Z * q[0]),
-            Self::Prismatic(a) => Se3::from_translation(a * q[0]),
-            Self::Cylindrical(a) => Se3::new(Se3::from_axis_angle(a, q[1]).rotation, a * q[0]),
-            Self::Spherical => Se3::from_quat(quat(q)),
-            Self::Planar { u, w, n } => {
-                Se3::new(Se3::from_axis_angle(n, q[2]).rotation, u * q[0] + w * q[1])
-            }
-            Self::Floating => {
-                Se3::from_translation_quat(DVec3::new(q[0], q[1], q[2]), quat(&q[3..7]))
-            }
         }
     }
 
@@ -299,6 +273,18 @@ impl JointModel {
     }
 }
 
+/// `I·S` for an axis-aligned joint's subspace `S = e_K` (angular if `REV`, else linear).
+#[inline(always)]
+fn axis_momentum<const K: usize, const REV: bool>(y: &OriginInertia) -> Force {
+    if REV {
+        Force::new(unit_cross::<K>(y.h), y.i.column(K))
+    } else {
+        let mut lin = DVec3::ZERO;
+        lin[K] = y.m;
+        Force::new(lin, -unit_cross::<K>(y.h))
+    }
+}
+
 #[inline]
 fn unit(k: usize) -> DVec3 {
     match k {
@@ -320,28 +306,36 @@ pub(crate) fn quat(q: &[f64]) -> DQuat {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use kinetree_model::spatial::{Inertia, Symmetric3};
 
     #[test]
-    fn specialised_transforms_match_general_ones() {
-        let placement = Se3::from_xyz_rpy([0.1, -0.2, 0.3], [0.4, 0.5, -0.6]);
-        let q = [0.7];
-        let cases = [
-            (JointModel::RevoluteX, JointModel::Revolute(DVec3::X)),
-            (JointModel::RevoluteY, JointModel::Revolute(DVec3::Y)),
-            (JointModel::RevoluteZ, JointModel::Revolute(DVec3::Z)),
-            (JointModel::PrismaticX, JointModel::Prismatic(DVec3::X)),
-            (JointModel::PrismaticY, JointModel::Prismatic(DVec3::Y)),
-            (JointModel::PrismaticZ, JointModel::Prismatic(DVec3::Z)),
-        ];
-        for (fast, general) in cases {
-            let a = fast.placed_transform(&placement, &q);
-            let b = placement * general.transform(&q);
-            assert!(a.abs_diff_eq(&b, 1e-15, 1e-15), "{fast:?}");
-            assert!(
-                fast.motion(&[1.3])
-                    .abs_diff_eq(&general.motion(&[1.3]), 0.0)
-            );
+    fn axis_kernels_match_the_subspace_columns() {
+        let y = OriginInertia::from_inertia(&Inertia::new(
+            2.5,
+            DVec3::new(0.1, -0.2, 0.3),
+            Symmetric3::new(0.4, 0.01, -0.02, 0.5, 0.03, 0.6),
+        ));
+        let f = Force::from_array([0.3, -1.2, 0.5, 2.0, -0.1, 0.7]);
+        for m in [
+            JointModel::RevoluteX,
+            JointModel::RevoluteY,
+            JointModel::RevoluteZ,
+            JointModel::PrismaticX,
+            JointModel::PrismaticY,
+            JointModel::PrismaticZ,
+        ] {
+            let s = m.subspace_column(0);
+            let (k, revolute) = m.axis_index().expect("axis-aligned");
+            let unit = if revolute { s.angular } else { s.linear };
+            assert_eq!(unit[k], 1.0);
+            assert_eq!(m.project_axis(&f), Some(s.dot(&f)));
+            let momentum = m.axis_momentum(&y).expect("axis-aligned");
+            assert!(momentum.abs_diff_eq(&y.mul_motion(&s), 1e-15), "{m:?}");
         }
+        let general = JointModel::Revolute(DVec3::new(0.6, 0.0, 0.8));
+        assert_eq!(general.axis_index(), None);
+        assert_eq!(general.project_axis(&f), None);
+        assert_eq!(general.axis_momentum(&y), None);
     }
 
     #[test]
@@ -366,6 +360,10 @@ mod tests {
                 sum += m.subspace_column(k) * *vk;
             }
             assert!(sum.abs_diff_eq(&m.motion(&v), 1e-15), "{m:?}");
+            assert_eq!(
+                m.nq(),
+                m.nv() + usize::from(m == JointModel::Spherical || m == JointModel::Floating)
+            );
             let mut out = vec![0.0; nv];
             m.project_force(&f, &mut out);
             for (k, o) in out.iter().enumerate() {
