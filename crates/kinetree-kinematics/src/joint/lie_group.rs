@@ -75,7 +75,8 @@ pub fn integrate_joint(kind: JointKind, qi: &[f64], vi: &[f64], qo: &mut [f64]) 
     }
 }
 
-/// The velocity taking `a` to `c` for one joint's blocks (see [`difference`]).
+/// The velocity taking `a` to `c` for one joint's blocks (see
+/// [`configuration::difference`](crate::configuration::difference)).
 ///
 /// # Panics
 /// When a block is shorter than the kind requires.
