@@ -179,7 +179,17 @@ impl CollisionModel {
             pair_start: Vec::new(),
             link_pairs: Vec::new(),
             skipped,
-            body_parent: model.bodies().iter().map(|b| b.parent).collect(),
+            // A body attached to the world datum by its own joint (a root part, or the floating
+            // root) is not adjacent to the links welded to the world: with several roots those
+            // belong to other parts.
+            body_parent: model
+                .bodies()
+                .iter()
+                .map(|b| match b.joint {
+                    Some(j) if model.joint(j).parent_link.is_none() => usize::MAX,
+                    _ => b.parent,
+                })
+                .collect(),
             disabled: Vec::new(),
         };
         cmodel.rebuild_pairs();

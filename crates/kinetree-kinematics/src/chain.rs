@@ -460,13 +460,14 @@ impl Chain {
             .collect())
     }
 
-    /// The deepest link that is an ancestor of (or equal to) both `a` and `b`.
+    /// The deepest link that is an ancestor of (or equal to) both `a` and `b`; `None` when they
+    /// hang from different roots (only the world datum is common to them).
     ///
     /// # Errors
     /// [`KinematicsError::UnknownLink`] naming the first unknown name.
-    pub fn common_ancestor(&self, a: &str, b: &str) -> Result<&str, KinematicsError> {
+    pub fn common_ancestor(&self, a: &str, b: &str) -> Result<Option<&str>, KinematicsError> {
         let (a, b) = (self.link(a)?, self.link(b)?);
-        Ok(self.link_name(self.model.common_ancestor(a, b)))
+        Ok(self.model.common_ancestor(a, b).map(|l| self.link_name(l)))
     }
 
     /// The parent link of `part` (`None` for the root link).
@@ -968,7 +969,10 @@ mod tests {
             chain.path_to_root("plate").unwrap(),
             ["plate", "carriage", "upper", "base"]
         );
-        assert_eq!(chain.common_ancestor("plate", "head").unwrap(), "upper");
+        assert_eq!(
+            chain.common_ancestor("plate", "head").unwrap(),
+            Some("upper")
+        );
         assert_eq!(chain.parent("base").unwrap(), None);
         assert_eq!(chain.parent("plate").unwrap(), Some("carriage"));
         assert_eq!(chain.parent_joint("plate").unwrap(), Some("weld"));

@@ -15,15 +15,24 @@ pub enum FrameId {
 }
 
 impl FrameId {
-    /// Looks `name` up among links first, then named frames.
+    /// Looks `name` up among links first, then named frames: `part/frame`, or a frame name
+    /// unique in the model. `part/ORIGIN` is the part's own frame unless the part declares a
+    /// frame called `ORIGIN` ([`kinetree_model::ORIGIN_FRAME`]).
     ///
     /// # Errors
     /// [`KinematicsError::UnknownFrame`] when neither exists.
     pub fn find(model: &Model, name: &str) -> Result<FrameId, KinematicsError> {
+        let origin_of = |name: &str| {
+            let part = name
+                .strip_suffix(kinetree_model::ORIGIN_FRAME)?
+                .strip_suffix('/')?;
+            model.link_index(part).map(FrameId::Link)
+        };
         model
             .link_index(name)
             .map(FrameId::Link)
             .or_else(|| model.frame_index(name).map(FrameId::Frame))
+            .or_else(|| origin_of(name))
             .ok_or_else(|| KinematicsError::UnknownFrame {
                 name: name.to_string(),
             })

@@ -50,6 +50,7 @@
 //! errors, never panics.
 
 mod chain;
+mod chain_datums;
 pub mod configuration;
 mod data;
 pub mod derivatives;

@@ -1,13 +1,35 @@
 //! [`ModelBuilder`]: the one place where a [`Model`]'s invariants are established.
 
+use crate::checks::{check_link, check_placement, frame_index_map, unique_names};
 use crate::error::{Issue, ItemKind, ModelError};
 use crate::frame::Frame;
 use crate::joint::{Joint, JointDynamics, JointKind, JointLimits, Mimic};
-use crate::link::{Geometry, Link};
+use crate::link::Link;
 use crate::model::{Body, BodyMimic, MimicMode, Model, ROOT_JOINT_NAME, RootJoint};
+use crate::topology::{self, ParentRef};
 use glam::DVec3;
-use kinetree_spatial::{Inertia, InertiaDefect, Se3, rotation};
+use kinetree_spatial::{Inertia, Se3};
 use std::collections::HashMap;
+
+/// The parent names that attach a part to the world datum instead of to a link (yapCAD's
+/// `GLOBAL_DATUM`), unless a link has that name. Accepted by [`ModelBuilder`] and the JSON
+/// loaders, not by the URDF loader (a URDF has one root link).
+pub const WORLD_NAMES: [&str; 2] = ["world", "GLOBAL_DATUM"];
+
+/// The implicit frame every part has: the part's own frame (yapCAD's `ORIGIN`). A joint's
+/// `parent_frame` may name it, and `part/ORIGIN` addresses the part's frame wherever frames are
+/// looked up by name; an explicit frame of that name on the part takes precedence.
+pub const ORIGIN_FRAME: &str = "ORIGIN";
+
+/// What [`ModelBuilder::check`] found.
+struct Checked {
+    issues: Vec<Issue>,
+    warnings: Vec<Issue>,
+    link_order: Vec<usize>,
+    joint_order: Vec<usize>,
+    link_names: HashMap<String, usize>,
+    frame_names: HashMap<String, usize>,
+}
 
 /// Relative tolerance of the physical-validity check on link inertias (relative to the largest
 /// principal moment).
@@ -194,6 +216,7 @@ pub struct ModelBuilder {
     warnings: Vec<Issue>,
     inertia_check: InertiaCheck,
     mimic_mode: MimicMode,
+    world_parents: bool,
 }
 
 impl ModelBuilder {
@@ -202,6 +225,7 @@ impl ModelBuilder {
     pub fn new(name: impl Into<String>) -> Self {
         Self {
             name: name.into(),
+            world_parents: true,
             ..Self::default()
         }
     }
@@ -233,6 +257,14 @@ impl ModelBuilder {
     /// Chooses how the root link is attached to the world (default: fixed).
     pub fn root_joint(&mut self, root: RootJoint) -> &mut Self {
         self.root_joint = root;
+        self
+    }
+
+    /// Chooses whether a joint may name the world datum ([`WORLD_NAMES`]) as its parent (default
+    /// yes). Such joints make several roots possible: each attaches its child part to the world
+    /// by its own joint, of any kind. The URDF loader turns this off.
+    pub fn world_parents(&mut self, allow: bool) -> &mut Self {
+        self.world_parents = allow;
         self
     }
 
@@ -279,6 +311,53 @@ impl ModelBuilder {
     /// roots, cycles, zero or non-finite axes, `lower > upper`, NaN/∞ anywhere, physically invalid
     /// inertias, unknown mimic targets and parent frames.
     pub fn build(&self) -> Result<Model, ModelError> {
+        let checked = self.check();
+        if !checked.issues.is_empty() {
+            return Err(self.invalid(checked.issues));
+        }
+        let mut model = self.assemble(
+            &checked.link_order,
+            &checked.joint_order,
+            &checked.link_names,
+            &checked.frame_names,
+        );
+        model.warnings = self.warnings.clone();
+        model.warnings.extend(checked.warnings);
+        Ok(model)
+    }
+
+    /// Reports every problem [`ModelBuilder::build`] would reject, without building the model
+    /// (yapCAD's `validate()`): an empty list means `build` succeeds. Repairs that `build`
+    /// only warns about (see [`InertiaCheck::Warn`]) are not listed.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree_model::{Issue, JointKind, JointSpec, Link, ModelBuilder};
+    /// let mut b = ModelBuilder::new("m");
+    /// b.add_link(Link::new("base")).add_link(Link::new("arm"));
+    /// b.add_joint(JointSpec::new("j", JointKind::Revolute, "bsae", "arm"));
+    /// assert!(matches!(&b.validate()[..], [Issue::UnknownParent { link, .. }] if link == "bsae"));
+    /// ```
+    #[must_use]
+    pub fn validate(&self) -> Vec<Issue> {
+        self.check().issues
+    }
+
+    /// The parent link of joint `j`: `Some(Some(link))`, `Some(None)` for the world datum, `None`
+    /// when the name is neither.
+    fn parent_of(
+        &self,
+        j: &JointSpec,
+        link_names: &HashMap<String, usize>,
+    ) -> Option<Option<usize>> {
+        match link_names.get(&j.parent) {
+            Some(&l) => Some(Some(l)),
+            None if self.world_parents && WORLD_NAMES.contains(&j.parent.as_str()) => Some(None),
+            None => None,
+        }
+    }
+
+    fn check(&self) -> Checked {
         let mut issues = Vec::new();
 
         let link_names = unique_names(
@@ -291,8 +370,9 @@ impl ModelBuilder {
             ItemKind::Joint,
             &mut issues,
         );
+        // Frame names are unique per link; `link/frame` is unique in the model.
         let frame_names = unique_names(
-            self.frames.iter().map(|f| f.name.as_str()),
+            self.frames.iter().map(|f| format!("{}/{}", f.link, f.name)),
             ItemKind::Frame,
             &mut issues,
         );
@@ -323,7 +403,7 @@ impl ModelBuilder {
         // Joints: references, axes, limits, placements.
         let mut parent_joint: Vec<Vec<usize>> = vec![Vec::new(); self.links.len()];
         for (ji, j) in self.joints.iter().enumerate() {
-            let parent = link_names.get(&j.parent).copied();
+            let parent = self.parent_of(j, &link_names);
             if parent.is_none() {
                 issues.push(Issue::UnknownParent {
                     joint: j.name.clone(),
@@ -338,10 +418,15 @@ impl ModelBuilder {
                 }),
             }
             if let Some(frame) = &j.parent_frame {
-                let on_parent = frame_names
-                    .get(frame)
-                    .is_some_and(|&f| self.frames[f].link == j.parent);
-                if !on_parent {
+                let known = match parent {
+                    Some(Some(_)) => {
+                        frame == ORIGIN_FRAME
+                            || frame_names.contains_key(&format!("{}/{frame}", j.parent))
+                    }
+                    Some(None) => frame == ORIGIN_FRAME,
+                    None => true, // the unknown parent is reported already
+                };
+                if !known {
                     issues.push(Issue::UnknownParentFrame {
                         joint: j.name.clone(),
                         frame: frame.clone(),
@@ -439,9 +524,11 @@ impl ModelBuilder {
             }
         }
 
-        // Topology: one parent per link, exactly one root, no cycle.
+        // Topology: one parent per link, at most one parentless root, no cycle.
+        let mut several_parents = false;
         for (li, joints) in parent_joint.iter().enumerate() {
             if joints.len() > 1 {
+                several_parents = true;
                 issues.push(Issue::MultipleParents {
                     link: self.links[li].name.clone(),
                     joints: joints
@@ -451,82 +538,53 @@ impl ModelBuilder {
                 });
             }
         }
-        let roots: Vec<usize> = (0..self.links.len())
-            .filter(|&l| parent_joint[l].is_empty())
+        let parent_ref = |j: usize| match self.parent_of(&self.joints[j], &link_names) {
+            Some(Some(link)) => ParentRef::Link { joint: j, link },
+            Some(None) => ParentRef::World { joint: j },
+            None => ParentRef::Unknown { joint: j },
+        };
+        let parents: Vec<ParentRef> = parent_joint
+            .iter()
+            .map(|js| js.first().map_or(ParentRef::None, |&j| parent_ref(j)))
             .collect();
-        match roots.len() {
-            0 if !self.links.is_empty() => issues.push(Issue::NoRoot),
-            0 | 1 => {}
-            _ => issues.push(Issue::MultipleRoots {
-                links: roots.iter().map(|&l| self.links[l].name.clone()).collect(),
-            }),
-        }
         // Child joints per link in declaration order (only joints whose ends both exist).
         let mut child_joints: Vec<Vec<usize>> = vec![Vec::new(); self.links.len()];
+        let mut world_joints = Vec::new();
+        let child_of: Vec<Option<usize>> = self
+            .joints
+            .iter()
+            .map(|j| link_names.get(&j.child).copied())
+            .collect();
         for (ji, j) in self.joints.iter().enumerate() {
-            if let (Some(&p), Some(_)) = (link_names.get(&j.parent), link_names.get(&j.child)) {
-                child_joints[p].push(ji);
+            if child_of[ji].is_none() {
+                continue;
+            }
+            match self.parent_of(j, &link_names) {
+                Some(Some(p)) => child_joints[p].push(ji),
+                Some(None) => world_joints.push(ji),
+                None => {}
             }
         }
-        // Depth-first traversal from the root; links never reached lie on cycles.
-        let mut link_order = Vec::with_capacity(self.links.len());
-        let mut joint_order = Vec::with_capacity(self.joints.len());
-        if let Some(&root) = roots.first() {
-            let mut seen = vec![false; self.links.len()];
-            let mut stack = vec![(root, None::<usize>)];
-            while let Some((l, via)) = stack.pop() {
-                if seen[l] {
-                    continue;
-                }
-                seen[l] = true;
-                link_order.push(l);
-                if let Some(j) = via {
-                    joint_order.push(j);
-                }
-                for &j in child_joints[l].iter().rev() {
-                    let c = link_names[&self.joints[j].child];
-                    stack.push((c, Some(j)));
-                }
-            }
-            if roots.len() == 1
-                && issues
-                    .iter()
-                    .all(|i| !matches!(i, Issue::MultipleParents { .. }))
-            {
-                let mut reported = vec![false; self.links.len()];
-                for l in 0..self.links.len() {
-                    if !seen[l] && !reported[l] {
-                        // Mark the whole unreached component so each cycle is reported once.
-                        let mut x = l;
-                        while !reported[x] {
-                            reported[x] = true;
-                            match parent_joint[x]
-                                .first()
-                                .and_then(|&j| link_names.get(&self.joints[j].parent))
-                            {
-                                Some(&p) => x = p,
-                                None => break,
-                            }
-                        }
-                        issues.push(Issue::Cycle {
-                            link: self.links[l].name.clone(),
-                        });
-                    }
-                }
-            }
-        } else if !self.joints.is_empty() && issues.iter().any(|i| matches!(i, Issue::NoRoot)) {
-            issues.push(Issue::Cycle {
-                link: self.links[0].name.clone(),
-            });
-        }
+        let names: Vec<&str> = self.links.iter().map(|l| l.name.as_str()).collect();
+        let order = topology::order(
+            &names,
+            &parents,
+            &child_joints,
+            &world_joints,
+            &child_of,
+            several_parents,
+            &mut issues,
+        );
+        let (link_order, joint_order) = (order.links, order.joints);
 
-        if !issues.is_empty() {
-            return Err(self.invalid(issues));
+        Checked {
+            issues,
+            warnings,
+            link_order,
+            joint_order,
+            link_names,
+            frame_names,
         }
-        let mut model = self.assemble(&link_order, &joint_order, &link_names, &frame_names);
-        model.warnings = self.warnings.clone();
-        model.warnings.append(&mut warnings);
-        Ok(model)
     }
 
     fn invalid(&self, issues: Vec<Issue>) -> ModelError {
@@ -544,8 +602,10 @@ impl ModelBuilder {
         link_names_in: &HashMap<String, usize>,
         frame_names_in: &HashMap<String, usize>,
     ) -> Model {
-        // An empty model has nothing to attach a floating joint to.
-        let floating = self.root_joint == RootJoint::Floating && !link_order.is_empty();
+        // A floating joint attaches the parentless root, when there is one (every other link
+        // comes with its joint, so the parentless root is the one link more than joints).
+        let floating =
+            self.root_joint == RootJoint::Floating && joint_order.len() < link_order.len();
         // New link index of each input link.
         let mut new_link = vec![0usize; self.links.len()];
         for (new, &old) in link_order.iter().enumerate() {
@@ -564,13 +624,19 @@ impl ModelBuilder {
                 limits: JointLimits::UNLIMITED,
                 dynamics: JointDynamics::default(),
                 mimic: None,
+                parent_frame: None,
             });
         }
         for &ji in joint_order {
             let s = &self.joints[ji];
             let mut placement = s.placement;
-            if let Some(frame) = &s.parent_frame {
-                placement = self.frames[frame_names_in[frame]].placement * placement;
+            let parent_frame = s.parent_frame.as_ref().and_then(|frame| {
+                frame_names_in
+                    .get(&format!("{}/{frame}", s.parent))
+                    .copied()
+            });
+            if let Some(f) = parent_frame {
+                placement = self.frames[f].placement * placement;
             }
             let axis = if s.kind.has_axis() {
                 unit_axis(s.axis).unwrap_or(s.axis)
@@ -585,7 +651,8 @@ impl ModelBuilder {
             joints.push(Joint {
                 name: s.name.clone(),
                 kind: s.kind,
-                parent_link: Some(new_link[link_names_in[&s.parent]]),
+                parent_link: link_names_in.get(&s.parent).map(|&p| new_link[p]),
+                parent_frame: s.parent_frame.clone(),
                 child_link: new_link[link_names_in[&s.child]],
                 placement,
                 axis,
@@ -706,7 +773,7 @@ impl ModelBuilder {
             name: self.name.clone(),
             link_names: index(&mut links.iter().map(|l| &l.name)),
             joint_names: index(&mut joints.iter().map(|j| &j.name)),
-            frame_names: index(&mut frames.iter().map(|f| &f.name)),
+            frame_names: frame_index_map(&links, &frames),
             links,
             joints,
             frames,
@@ -726,116 +793,6 @@ impl ModelBuilder {
             gravity: self.gravity.unwrap_or(DVec3::new(0.0, 0.0, -9.81)),
             ignored: self.ignored.clone(),
             warnings: Vec::new(),
-        }
-    }
-}
-
-fn unique_names<'a>(
-    names: impl Iterator<Item = &'a str>,
-    kind: ItemKind,
-    issues: &mut Vec<Issue>,
-) -> HashMap<String, usize> {
-    let mut map = HashMap::new();
-    for (i, n) in names.enumerate() {
-        if map.contains_key(n) {
-            if !issues.iter().any(
-                |x| matches!(x, Issue::DuplicateName { kind: k, name } if *k == kind && name == n),
-            ) {
-                issues.push(Issue::DuplicateName {
-                    kind,
-                    name: n.to_string(),
-                });
-            }
-        } else {
-            map.insert(n.to_string(), i);
-        }
-    }
-    map
-}
-
-fn check_placement(p: &Se3, kind: ItemKind, name: &str, issues: &mut Vec<Issue>) {
-    if !p.is_finite() {
-        issues.push(Issue::NonFinite {
-            kind,
-            name: name.to_string(),
-            what: "origin",
-        });
-    } else if !rotation::is_rotation(&p.rotation, 1e-9) {
-        issues.push(Issue::InvalidRotation {
-            kind,
-            name: name.to_string(),
-        });
-    }
-}
-
-fn check_link(link: &Link, issues: &mut Vec<Issue>, inertia_issues: &mut Vec<Issue>) {
-    if let Some(inertial) = &link.inertial {
-        if !inertial.origin.is_finite() {
-            issues.push(Issue::NonFinite {
-                kind: ItemKind::Link,
-                name: link.name.clone(),
-                what: "inertial origin",
-            });
-        }
-        let inertia = Inertia::new(inertial.mass, DVec3::ZERO, inertial.inertia);
-        match inertia.check(INERTIA_TOLERANCE) {
-            Ok(()) => {}
-            // Negative and non-finite masses or tensors are never accepted.
-            Err(defect @ InertiaDefect::NonFinite) => {
-                issues.push(Issue::InvalidInertia {
-                    link: link.name.clone(),
-                    mass: inertial.mass,
-                    defect,
-                });
-            }
-            Err(defect) if inertial.mass < 0.0 => {
-                issues.push(Issue::InvalidInertia {
-                    link: link.name.clone(),
-                    mass: inertial.mass,
-                    defect,
-                });
-            }
-            Err(defect) => {
-                inertia_issues.push(Issue::InvalidInertia {
-                    link: link.name.clone(),
-                    mass: inertial.mass,
-                    defect,
-                });
-            }
-        }
-    }
-    let shapes = link
-        .visuals
-        .iter()
-        .map(|v| (&v.origin, &v.geometry))
-        .chain(link.collisions.iter().map(|c| (&c.origin, &c.geometry)));
-    for (origin, geometry) in shapes {
-        if !origin.is_finite() {
-            issues.push(Issue::NonFinite {
-                kind: ItemKind::Link,
-                name: link.name.clone(),
-                what: "geometry origin",
-            });
-        }
-        let bad = match geometry {
-            Geometry::Box { size } => size.iter().any(|s| !(s.is_finite() && *s >= 0.0)),
-            Geometry::Cylinder { radius, length } | Geometry::Capsule { radius, length } => {
-                !(radius.is_finite() && *radius >= 0.0 && length.is_finite() && *length >= 0.0)
-            }
-            Geometry::Sphere { radius } => !(radius.is_finite() && *radius >= 0.0),
-            // Any finite non-zero factor: a negative one mirrors the mesh.
-            Geometry::Mesh { scale, .. } => scale.iter().any(|s| !s.is_finite() || *s == 0.0),
-        };
-        if bad {
-            let what = if matches!(geometry, Geometry::Mesh { .. }) {
-                "zero or non-finite mesh scale"
-            } else {
-                "negative or non-finite size"
-            };
-            issues.push(Issue::InvalidGeometry {
-                link: link.name.clone(),
-                reason: format!("{what} in {geometry:?}"),
-            });
         }
     }
 }

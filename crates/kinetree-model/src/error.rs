@@ -89,6 +89,14 @@ pub enum ModelError {
         /// Its kind.
         kind: crate::JointKind,
     },
+    /// A model feature the target format cannot express (several roots in a URDF).
+    #[error("{format} cannot express this model: {what}")]
+    Unsupported {
+        /// The target format, e.g. `"URDF"`.
+        format: &'static str,
+        /// What cannot be written.
+        what: String,
+    },
     /// An input slice has the wrong length.
     #[error("{what}: expected length {expected}, got {actual}")]
     Length {
@@ -294,6 +302,26 @@ pub enum Issue {
         /// The value given.
         value: f64,
     },
+    /// A part's exported world pose (yapCAD's `world_transform`) differs from the pose its
+    /// joint values give (a warning: the joint values win).
+    WorldPoseMismatch {
+        /// The part (link).
+        part: String,
+        /// Distance between the two positions (m).
+        distance: f64,
+        /// Angle between the two orientations (rad).
+        angle: f64,
+    },
+    /// A joint attaches to a frame its parent part does not define; the part's own frame
+    /// (`ORIGIN`) is used instead, as yapCAD does (a warning).
+    ParentFrameFallback {
+        /// The joint.
+        joint: String,
+        /// The missing frame.
+        frame: String,
+        /// The parent part.
+        link: String,
+    },
     /// A floating or planar joint is attached below the root where the model does not support it,
     /// or a root joint is declared twice.
     InvalidRootJoint {
@@ -380,6 +408,18 @@ impl fmt::Display for Issue {
             Self::InvalidJointDynamics { joint, what, value } => write!(
                 f,
                 "joint '{joint}' has a negative {what} ({value}); it must be zero or positive"
+            ),
+            Self::WorldPoseMismatch {
+                part,
+                distance,
+                angle,
+            } => write!(
+                f,
+                "part '{part}': exported world pose is {distance:.3e} m and {angle:.3e} rad away from the pose its joint values give"
+            ),
+            Self::ParentFrameFallback { joint, frame, link } => write!(
+                f,
+                "joint '{joint}' attaches to frame '{frame}', which part '{link}' does not define; its ORIGIN is used"
             ),
         }
     }

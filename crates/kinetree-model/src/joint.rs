@@ -227,6 +227,10 @@ pub struct Joint {
     pub dynamics: JointDynamics,
     /// URDF mimic coupling (leader joint by name).
     pub mimic: Option<Mimic>,
+    /// The named frame of the parent link the joint was attached to, when it was given one
+    /// (yapCAD's `parent_frame`). `placement` already includes that frame's pose; the name is
+    /// kept so that exports can write the attachment as it was declared.
+    pub parent_frame: Option<String>,
 }
 
 /// An orthonormal basis `(u, w, n)` of a plane with unit normal `n`: the in-plane directions of a

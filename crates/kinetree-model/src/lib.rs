@@ -10,6 +10,8 @@
 //! - kinetree's own JSON schema (parts with metadata, named frames, external datum files, files
 //!   in millimetres and degrees): [`Model::from_json_file`], [`Model::from_json_str`],
 //!   [`Model::to_json_string`] — see [`json`] for the schema;
+//! - yapCAD's chain JSON (`KinematicChain.export_json`), recognised by its shape or read
+//!   explicitly with its joint values: [`Model::from_yapcad_file`] (see [`yapcad`]);
 //! - either, by file extension: [`Model::from_file`];
 //! - Denavit–Hartenberg tables, standard or modified: [`Model::from_dh`] (see [`dh`]);
 //! - code: [`ModelBuilder`], and the ready-made models of [`samples`].
@@ -61,7 +63,9 @@
 //! - [`dh`]: Denavit–Hartenberg tables; [`samples`]: ready-made models.
 
 mod builder;
+mod checks;
 mod compare;
+pub mod datum;
 pub mod dh;
 pub mod dh_json;
 mod error;
@@ -71,10 +75,14 @@ pub mod json;
 mod link;
 mod model;
 pub mod samples;
+mod topology;
 pub mod units;
 pub mod urdf;
+pub mod yapcad;
 
-pub use builder::{FrameSpec, INERTIA_TOLERANCE, InertiaCheck, JointSpec, ModelBuilder};
+pub use builder::{
+    FrameSpec, INERTIA_TOLERANCE, InertiaCheck, JointSpec, ModelBuilder, ORIGIN_FRAME, WORLD_NAMES,
+};
 pub use error::{Issue, ItemKind, ModelError};
 pub use frame::Frame;
 pub use joint::{Joint, JointDynamics, JointKind, JointLimits, Mimic, plane_basis};
@@ -84,3 +92,4 @@ pub use link::{Collision, Geometry, Inertial, Link, LinkMetadata, Visual};
 pub use model::{Body, BodyMimic, MimicMode, Model, ROOT_JOINT_NAME, RootJoint};
 pub use units::{AngleUnit, LengthUnit, Units};
 pub use urdf::LoadOptions;
+pub use yapcad::YapcadChain;

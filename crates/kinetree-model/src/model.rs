@@ -216,16 +216,36 @@ impl Model {
         self.joint_names.get(name).copied()
     }
 
-    /// Index of the frame named `name`.
+    /// Index of the named frame `name`: `part/frame` (the frame `frame` of link `part`), or a
+    /// bare frame name when exactly one link has a frame of that name (frame names are unique per
+    /// link, not per model). The implicit `part/ORIGIN` frame is the link itself, not an entry of
+    /// [`Model::frames`]: look it up with [`Model::link_index`] (the kinematics layer's
+    /// `FrameId::find` resolves both).
     #[must_use]
     pub fn frame_index(&self, name: &str) -> Option<usize> {
         self.frame_names.get(name).copied()
     }
 
-    /// The root link's index: `Some(0)`, or `None` for the empty model (a file without links).
+    /// The first root link's index: `Some(0)`, or `None` for the empty model (a file without
+    /// links). See [`Model::root_links`] for models with several roots.
     #[must_use]
     pub fn root_link(&self) -> Option<usize> {
         (!self.links.is_empty()).then_some(0)
+    }
+
+    /// Every root link (a link without a parent link), in storage order: the parentless root,
+    /// then the parts attached to the world datum by their own joints.
+    #[must_use]
+    pub fn root_links(&self) -> Vec<usize> {
+        (0..self.links.len())
+            .filter(|&l| self.parent_link(l).is_none())
+            .collect()
+    }
+
+    /// Whether joint `joint` is the floating joint added by [`RootJoint::Floating`].
+    #[must_use]
+    pub fn is_floating_root_joint(&self, joint: usize) -> bool {
+        joint == 0 && self.root_joint == RootJoint::Floating
     }
 
     /// The joint whose child is `link` (`None` for the root link with a fixed root).
@@ -292,19 +312,20 @@ impl Model {
         path
     }
 
-    /// The deepest link that is an ancestor of (or equal to) both `a` and `b`.
+    /// The deepest link that is an ancestor of (or equal to) both `a` and `b`, or `None` when
+    /// they hang from different roots (only the world datum is common to them).
     #[must_use]
-    pub fn common_ancestor(&self, a: usize, b: usize) -> usize {
+    pub fn common_ancestor(&self, a: usize, b: usize) -> Option<usize> {
         let (mut a, mut b) = (a, b);
         // Parents have smaller indices: walk the larger index up until they meet.
         while a != b {
             if a > b {
-                a = self.parent_link(a).unwrap_or(0);
+                a = self.parent_link(a)?;
             } else {
-                b = self.parent_link(b).unwrap_or(0);
+                b = self.parent_link(b)?;
             }
         }
-        a
+        Some(a)
     }
 
     /// The moving-body tree: body 0 is the world, each other body is driven by one moving joint.

@@ -10,3 +10,4 @@ mod ik;
 mod mimic;
 mod reachable;
 mod reference;
+mod yapcad;

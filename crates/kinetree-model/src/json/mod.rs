@@ -85,7 +85,7 @@
 //!
 //! A missing datum file or datum is an error ([`ModelError::Datum`]), never an identity pose.
 
-mod read;
+pub(crate) mod read;
 mod schema;
 #[cfg(test)]
 mod tests;
@@ -238,9 +238,9 @@ impl Model {
     /// Writes the model as JSON in kinetree's schema (see the [module docs](crate::json)),
     /// pretty-printed, in the units of `options` (the file declares them).
     ///
-    /// The floating root joint is written as `"root_joint": "floating"`, not as a joint. A joint
-    /// attached through a `parent_frame` is written relative to its parent link (the frame is
-    /// folded into its origin when the model is built).
+    /// The floating root joint is written as `"root_joint": "floating"`, not as a joint; a part
+    /// attached to the world datum by its own joint is written with the parent `"world"`. A
+    /// joint attached through a `parent_frame` keeps it, with its origin relative to that frame.
     ///
     /// # Errors
     /// [`ModelError::Length`] when `world_poses` or `positions` have the wrong length;

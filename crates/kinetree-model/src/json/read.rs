@@ -87,6 +87,27 @@ pub(super) fn geometry_to_si(g: &GeometryDoc, u: Units) -> Geometry {
     }
 }
 
+/// Reads datum `name` of `file` (relative to `base` when given) for frame `frame`: the datum
+/// module's entry point into the resolver.
+pub(crate) fn resolve_one(
+    base: Option<&Path>,
+    frame: &str,
+    file: &str,
+    name: &str,
+) -> Result<Se3, ModelError> {
+    DatumResolver {
+        base,
+        files: HashMap::new(),
+    }
+    .resolve(
+        frame,
+        &DatumRefDoc {
+            file: file.to_string(),
+            name: name.to_string(),
+        },
+    )
+}
+
 /// Reads datum files once each.
 struct DatumResolver<'a> {
     base: Option<&'a Path>,
@@ -144,6 +165,9 @@ pub(super) fn from_json(
 ) -> Result<Model, ModelError> {
     if crate::dh_json::is_dh_document(text) {
         return dh_from_json(text, root, file);
+    }
+    if crate::yapcad::is_yapcad_json(text) {
+        return crate::yapcad::model_from_text(text, file);
     }
     let doc: ModelDoc = serde_json::from_str(text).map_err(|e| json_error(&e, file))?;
     if let Some(v) = doc.version.filter(|&v| v != JSON_SCHEMA_VERSION) {

@@ -154,9 +154,11 @@ pub(super) fn to_json(model: &Model, o: &JsonOptions<'_>) -> Result<String, Mode
     let mut joints = Vec::with_capacity(model.joints().len());
     for (ji, j) in model.joints().iter().enumerate() {
         // The floating root joint is the `root_joint` option, not a joint of the file.
-        let Some(parent) = j.parent_link else {
+        // The floating root joint is the `root_joint` option, not a joint of the file.
+        if model.is_floating_root_joint(ji) {
             continue;
-        };
+        }
+        let (parent, parent_frame, origin) = joint_attachment(model, j);
         let limits = convert_limits(&j.name, j.kind, j.limits, u, false).map_err(bad)?;
         let finite = |x: f64| x.is_finite().then_some(x);
         let limits_doc = LimitsDoc {
@@ -173,10 +175,10 @@ pub(super) fn to_json(model: &Model, o: &JsonOptions<'_>) -> Result<String, Mode
         joints.push(JointDoc {
             name: j.name.clone(),
             kind: j.kind,
-            parent: model.link(parent).name.clone(),
+            parent,
             child: model.link(j.child_link).name.clone(),
-            parent_frame: None,
-            origin: origin_doc(&j.placement, u),
+            parent_frame,
+            origin: origin_doc(&origin, u),
             axis: Some(j.axis.to_array()),
             limits: has_limits.then_some(limits_doc),
             dynamics: (d != JointDynamics::default()).then_some(DynamicsDoc {
@@ -271,4 +273,27 @@ pub(super) fn inline_number_arrays(pretty: &str) -> String {
         i += 1;
     }
     out
+}
+
+/// How a joint is written: its parent's name (the world datum's for a root part), its parent
+/// frame as declared, and its origin relative to that frame.
+fn joint_attachment(model: &Model, j: &crate::joint::Joint) -> (String, Option<String>, Se3) {
+    let Some(p) = j.parent_link else {
+        let world = crate::builder::WORLD_NAMES
+            .into_iter()
+            .find(|n| model.link_index(n).is_none())
+            .unwrap_or("world");
+        return (world.to_string(), None, j.placement);
+    };
+    let parent = model.link(p).name.clone();
+    let frame = j.parent_frame.as_ref().map(|f| {
+        let pose = model
+            .frame_index(&format!("{parent}/{f}"))
+            .map_or(Se3::IDENTITY, |i| model.frames()[i].placement);
+        (f.clone(), pose)
+    });
+    match frame {
+        Some((f, pose)) => (parent, Some(f), pose.inverse() * j.placement),
+        None => (parent, None, j.placement),
+    }
 }

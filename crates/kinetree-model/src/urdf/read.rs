@@ -129,6 +129,7 @@ pub(crate) fn from_urdf(
     })?;
     let mut b = ModelBuilder::new(robot.name.clone());
     b.root_joint(root)
+        .world_parents(false)
         .mimic_mode(options.mimic)
         .inertia_check(options.inertia_check);
     for what in ignored {

@@ -142,7 +142,23 @@ impl Model {
     /// # }
     /// ```
     pub fn to_urdf_string(&self) -> Result<String, ModelError> {
-        // The floating root joint has no parent link: it is a load option, not written.
+        // The floating root joint has no parent link: it is a load option, not written. Other
+        // world-attached joints (several roots) have no URDF form: a URDF has one root link.
+        if let Some(j) = self
+            .joints()
+            .iter()
+            .enumerate()
+            .find(|&(i, j)| j.parent_link.is_none() && !self.is_floating_root_joint(i))
+        {
+            return Err(ModelError::Unsupported {
+                format: "URDF",
+                what: format!(
+                    "joint '{}' attaches link '{}' to the world datum (a URDF has a single root link)",
+                    j.1.name,
+                    self.link(j.1.child_link).name
+                ),
+            });
+        }
         let joints: Vec<&Joint> = self
             .joints()
             .iter()

@@ -225,7 +225,10 @@ fn duplicate_names() {
     let e = json_err(
         r#"{"links": [{"name": "a"}], "frames": [{"name": "tcp", "link": "a"}, {"name": "tcp", "link": "a"}]}"#,
     );
-    assert!(e.to_string().contains("duplicate frame name 'tcp'"), "{e}");
+    assert!(
+        e.to_string().contains("duplicate frame name 'a/tcp'"),
+        "{e}"
+    );
 }
 
 #[test]

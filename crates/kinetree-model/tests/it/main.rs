@@ -3,5 +3,6 @@
 mod corpus;
 mod errors;
 mod reference;
+mod roots;
 mod roundtrip;
 mod tree;
