@@ -68,7 +68,7 @@ fn the_arm_export_loads_in_si_with_frames_and_metadata() {
         .unwrap()
         .q;
     chain.set_q(&cfg).unwrap();
-    let tcp = chain.world_placement("TCP").unwrap();
+    let tcp = chain.world_from("TCP").unwrap();
     let expected = [
         0.238_510_222_698_152_66,
         0.182_019_581_326_063_02,
@@ -78,7 +78,7 @@ fn the_arm_export_loads_in_si_with_frames_and_metadata() {
         assert!((a - b).abs() < 1e-12, "{a} vs {b}");
     }
     // Part frames: `part/frame`, and the implicit ORIGIN of every part.
-    let mount = chain.world_placement("BASE/MOUNT").unwrap();
+    let mount = chain.world_from("BASE/MOUNT").unwrap();
     assert!((mount.translation.z - 0.04).abs() < 1e-15);
     let origin = FrameId::find(&model, "FOREARM/ORIGIN").unwrap();
     assert_eq!(origin, FrameId::Link(model.link_index("FOREARM").unwrap()));
@@ -162,16 +162,16 @@ fn datums_resolve_on_their_own_and_reload_into_a_live_chain() {
     std::fs::write(&path, model_json).unwrap();
     let mut chain = Chain::new(Model::from_json_file(&path, None).unwrap());
     chain.set_joint_value("spin", 0.3).unwrap();
-    let before = chain.world_placement("horn").unwrap();
+    let before = chain.world_from("horn").unwrap();
     // shaft at z = 10 mm, turned 90°: the 5 mm offset points along world y.
     assert!((before.translation - glam::DVec3::new(0.0, 0.005, 0.01)).length() < 1e-15);
     write(25.0);
     assert_eq!(chain.reload_datums(Some(&dir)).unwrap(), 1);
     assert_eq!(chain.joint_value("spin").unwrap(), 0.3);
-    let after = chain.world_placement("horn").unwrap();
+    let after = chain.world_from("horn").unwrap();
     assert!((after.translation - glam::DVec3::new(0.0, 0.005, 0.025)).length() < 1e-15);
     assert!(after.rotation.abs_diff_eq(before.rotation, 1e-15));
-    let shaft = chain.world_placement("body/shaft").unwrap();
+    let shaft = chain.world_from("body/shaft").unwrap();
     assert!((shaft.translation.z - 0.025).abs() < 1e-15);
     // Nothing changed: nothing to do.
     assert_eq!(chain.reload_datums(Some(&dir)).unwrap(), 0);
@@ -187,7 +187,7 @@ fn datums_resolve_on_their_own_and_reload_into_a_live_chain() {
         e,
         kinetree_kinematics::KinematicsError::Model(ModelError::Datum { .. })
     ));
-    assert!((chain.world_placement("horn").unwrap().translation.z - 0.025).abs() < 1e-15);
+    assert!((chain.world_from("horn").unwrap().translation.z - 0.025).abs() < 1e-15);
     std::fs::remove_file(&servo).unwrap();
     let e = datum::resolve_datum(&servo, "shaft").unwrap_err();
     assert!(
