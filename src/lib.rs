@@ -34,6 +34,11 @@ mod error;
 
 pub use error::Error;
 
+/// `docs/from-the-seeds.md`, compiled and run as doc tests so its examples stay true.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/from-the-seeds.md")]
+pub struct FromTheSeeds;
+
 /// The names most programs need, for `use kinetree::prelude::*;`.
 ///
 /// # Examples

@@ -75,6 +75,7 @@ pub mod json;
 mod link;
 mod model;
 pub mod samples;
+pub mod state;
 mod topology;
 pub mod units;
 pub mod urdf;

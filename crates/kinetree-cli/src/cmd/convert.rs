@@ -1,7 +1,13 @@
 //! `kinetree convert <in> <out>`: URDF ↔ JSON, each format chosen by its file extension.
+//!
+//! Joint values stored in the input (JSON `position`, yapCAD `value`) are written back to a JSON
+//! output, `--positions` sets or overrides them, and `--world-poses` adds every link's world pose
+//! at those values.
 
+use super::UnitsArg;
 use anyhow::{Context, Result, bail};
-use kinetree::model::{JsonOptions, Model, RootJoint, Units};
+use kinetree::kinematics::{KinematicsData, forward_kinematics};
+use kinetree::model::{JsonOptions, Model, RootJoint, state};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `kinetree convert`.
@@ -14,18 +20,16 @@ pub(crate) struct Args {
     /// Attach the root link by a 6-DoF floating joint (recorded in JSON; URDF cannot hold it).
     #[arg(long)]
     floating: bool,
-    /// Units of lengths and angles in JSON output.
+    /// Units of lengths and angles in JSON output (and of `--positions`).
     #[arg(long, value_enum, default_value_t = UnitsArg::Si)]
     units: UnitsArg,
-}
-
-/// The unit systems `--units` accepts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum UnitsArg {
-    /// Metres and radians.
-    Si,
-    /// Millimetres and degrees (as CAD tools write).
-    MmDeg,
+    /// Joint values `name=value,…` written as the joints' `position` (in `--units`; multi-DoF
+    /// joints take `a:b:…`); they override the values stored in the input.
+    #[arg(long, allow_hyphen_values = true)]
+    positions: Option<String>,
+    /// Write every link's world pose at the joint values (`world_pose` in JSON).
+    #[arg(long)]
+    world_poses: bool,
 }
 
 /// The output formats, chosen by extension.
@@ -41,19 +45,27 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     if format == Format::Urdf && args.units != UnitsArg::Si {
         bail!("--units applies to JSON output only (URDF is always metres and radians)");
     }
+    if format == Format::Urdf && (args.positions.is_some() || args.world_poses) {
+        bail!("--positions and --world-poses apply to JSON output only (URDF holds no state)");
+    }
     let model = super::load_model(&args.input, super::root_joint(args.floating))?;
+    let (q, stored) = stored_positions(&model, &args.input)?;
+    let q = override_positions(&model, q, args.positions.as_deref(), args.units)?;
+    let poses = if args.world_poses {
+        let mut data = KinematicsData::new(&model);
+        forward_kinematics(&model, &mut data, &q)?;
+        Some(data.world_from_link().to_vec())
+    } else {
+        None
+    };
     let text = match format {
         Format::Urdf => model.to_urdf_string(),
-        Format::Json => {
-            let units = match args.units {
-                UnitsArg::Si => Units::SI,
-                UnitsArg::MmDeg => Units::MM_DEG,
-            };
-            model.to_json_string(&JsonOptions {
-                units,
-                ..JsonOptions::default()
-            })
-        }
+        Format::Json => model.to_json_string(&JsonOptions {
+            units: args.units.units(),
+            positions: (stored || args.positions.is_some()).then_some(q.as_slice()),
+            world_poses: poses.as_deref(),
+            ..JsonOptions::default()
+        }),
     }
     .with_context(|| {
         format!(
@@ -87,6 +99,40 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The joint values stored in a JSON input (neutral otherwise), and whether it stored any.
+fn stored_positions(model: &Model, input: &Path) -> Result<(Vec<f64>, bool)> {
+    let text = std::fs::read_to_string(input)
+        .with_context(|| format!("cannot read {}", input.display()))?;
+    if !text.trim_start().starts_with('{') {
+        return Ok((model.neutral_q(), false));
+    }
+    let q = state::positions_from_json(model, &text)
+        .with_context(|| format!("cannot read the joint values of {}", input.display()))?;
+    let stored =
+        q != model.neutral_q() || text.contains("\"position\"") || text.contains("\"value\"");
+    Ok((q, stored))
+}
+
+/// `q` with the joints named in `spec` (values in `units`) set.
+fn override_positions(
+    model: &Model,
+    mut q: Vec<f64>,
+    spec: Option<&str>,
+    units: UnitsArg,
+) -> Result<Vec<f64>> {
+    let Some(spec) = spec else { return Ok(q) };
+    let given = super::parse_named_in(model, Some(spec), false, units)?;
+    for entry in spec.split(',').filter(|e| !e.trim().is_empty()) {
+        let name = entry.split_once('=').map_or(entry, |(n, _)| n).trim();
+        let Some(j) = model.joint_index(name) else {
+            continue;
+        };
+        let r = model.joint_q_range(j);
+        q[r.clone()].copy_from_slice(&given[r]);
+    }
+    Ok(q)
 }
 
 /// The output format of `path`, from its extension.

@@ -57,6 +57,46 @@ fn check_model_file(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// The unit systems `--units` accepts for joint values and poses on the command line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum UnitsArg {
+    /// Metres and radians.
+    #[default]
+    Si,
+    /// Millimetres and degrees (as CAD tools write).
+    MmDeg,
+}
+
+impl UnitsArg {
+    /// The units as the model layer names them.
+    pub(crate) fn units(self) -> kinetree::model::Units {
+        match self {
+            Self::Si => kinetree::model::Units::SI,
+            Self::MmDeg => kinetree::model::Units::MM_DEG,
+        }
+    }
+}
+
+/// As [`parse_named`], with the values given in `units` (each coordinate converted as what it
+/// measures: a cylindrical joint's `slide:angle` is mm and degrees under `mm-deg`).
+///
+/// # Errors
+/// As [`parse_named`].
+pub(crate) fn parse_named_in(
+    model: &Model,
+    spec: Option<&str>,
+    velocity: bool,
+    units: UnitsArg,
+) -> Result<Vec<f64>> {
+    let mut x = parse_named(model, spec, velocity)?;
+    if velocity {
+        model.convert_v(&mut x, units.units(), true)?;
+    } else {
+        model.convert_q(&mut x, units.units(), true)?;
+    }
+    Ok(x)
+}
+
 /// The root attachment asked for by a `--floating` flag: `None` leaves it to the file.
 pub(crate) fn root_joint(floating: bool) -> Option<RootJoint> {
     floating.then_some(RootJoint::Floating)

@@ -228,3 +228,52 @@ fn validation_tells_an_orphan_from_a_cycle_without_building() {
     // A valid builder validates clean.
     assert!(two_robots().validate().is_empty());
 }
+
+#[test]
+fn joint_values_survive_export_and_import_with_per_coordinate_units() {
+    use kinetree_model::{Units, state};
+    let mut b = ModelBuilder::new("m");
+    b.add_link(Link::new("base"));
+    b.add_part(
+        massive("slider"),
+        JointSpec::new("cyl", JointKind::Cylindrical, "base", "slider"),
+    );
+    b.add_part(
+        massive("ball"),
+        JointSpec::new("ball", JointKind::Spherical, "slider", "ball"),
+    );
+    let m = b.build().unwrap();
+    let s = 0.5f64.sqrt();
+    let q = [0.25, 0.5, 0.0, 0.0, s, s];
+    let json = m
+        .to_json_string(&JsonOptions {
+            units: Units::MM_DEG,
+            positions: Some(&q),
+            ..JsonOptions::default()
+        })
+        .unwrap();
+    // The cylindrical joint's position is a length and an angle: mm and degrees.
+    assert!(
+        json.contains("\"position\": [250.0, 28.64788975654116]"),
+        "{json}"
+    );
+    let back = Model::from_json_str(&json, None).unwrap();
+    let read = state::positions_from_json(&back, &json).unwrap();
+    for (a, b) in read.iter().zip(q) {
+        assert!((a - b).abs() < 1e-15, "{read:?}");
+    }
+    // Coordinate-wise conversion both ways.
+    let mut x = q;
+    m.convert_q(&mut x, Units::MM_DEG, false).unwrap();
+    assert_eq!(x[0], 250.0);
+    assert!((x[1] - 0.5f64.to_degrees()).abs() < 1e-12);
+    assert_eq!(x[2..], q[2..]);
+    let mut v = [0.001, 0.1, 0.2, 0.3, 0.4];
+    m.convert_v(&mut v, Units::MM_DEG, false).unwrap();
+    assert!((v[0] - 1.0).abs() < 1e-12 && (v[4] - 0.4f64.to_degrees()).abs() < 1e-12);
+    assert!(m.convert_q(&mut [0.0; 2], Units::SI, true).is_err());
+    // A position with the wrong number of values names the joint.
+    let bad = json.replace("[250.0, 28.64788975654116]", "[250.0]");
+    let e = state::positions_from_json(&back, &bad).unwrap_err();
+    assert!(e.to_string().contains("joint 'cyl'"), "{e}");
+}
