@@ -115,3 +115,105 @@ fn a_yapcad_export_is_inspected_as_it_is() {
     assert!(text.contains("LINK1"), "{text}");
     assert!(text.contains("joint1"), "{text}");
 }
+
+fn panda() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/robots/panda.urdf")
+        .display()
+        .to_string()
+}
+
+#[test]
+fn units_mm_deg_on_ik_dynamics_and_collide() {
+    // ik: the same target in m/rad and in mm/deg gives the same joints, printed in rad and deg.
+    let si = ok(&kinetree(&[
+        "ik",
+        &panda(),
+        "--frame",
+        "panda_hand_tcp",
+        "--target",
+        "0.4,0.2,0.5,3.14159,0,0",
+        "--seed",
+        "3",
+        "--json",
+    ]));
+    let mm = ok(&kinetree(&[
+        "ik",
+        &panda(),
+        "--frame",
+        "panda_hand_tcp",
+        "--target",
+        &format!("400,200,500,{},0,0", 3.14159f64.to_degrees()),
+        "--seed",
+        "3",
+        "--json",
+        "--units",
+        "mm-deg",
+    ]));
+    let si: serde_json::Value = serde_json::from_str(si.trim()).unwrap();
+    let mm: serde_json::Value = serde_json::from_str(mm.trim()).unwrap();
+    assert_eq!(mm["units"]["angle"], "deg");
+    for j in ["panda_joint1", "panda_joint4", "panda_finger_joint1"] {
+        let (a, b) = (si["q"][j].as_f64().unwrap(), mm["q"][j].as_f64().unwrap());
+        let expected = if j.contains("finger") {
+            a * 1000.0
+        } else {
+            a.to_degrees()
+        };
+        assert!((b - expected).abs() < 1e-6, "{j}: {b} vs {expected}");
+    }
+    // dynamics: q in degrees and v in deg/s give the torques of the same state in rad.
+    let model = panda();
+    let tau = |args: &[&str]| -> Vec<f64> {
+        let mut all = vec!["dynamics", model.as_str(), "--a", "panda_joint1=0"];
+        all.extend_from_slice(args);
+        let text = ok(&kinetree(&all));
+        text.lines()
+            .skip(1)
+            .take(9)
+            .map(|l| l.split_whitespace().nth(1).unwrap().parse().unwrap())
+            .collect()
+    };
+    let a = tau(&["--q", "panda_joint2=0.5,panda_joint4=-1.5"]);
+    let b = tau(&[
+        "--q",
+        &format!(
+            "panda_joint2={},panda_joint4={}",
+            0.5f64.to_degrees(),
+            (-1.5f64).to_degrees()
+        ),
+        "--units",
+        "mm-deg",
+    ]);
+    assert_eq!(a.len(), 9);
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() < 1e-5, "{a:?} vs {b:?}");
+    }
+    // collide: the closest pair's distance printed in mm is a thousand times the one in m.
+    let closest = |args: &[&str]| -> (String, f64) {
+        let mut all = vec!["collide", model.as_str(), "--closest", "1"];
+        all.extend_from_slice(args);
+        let text = ok(&kinetree(&all));
+        let mut lines = text
+            .lines()
+            .skip_while(|l| !l.starts_with("closest self pairs"));
+        let header = lines.next().unwrap_or_default().to_string();
+        let value = lines
+            .next()
+            .and_then(|l| l.split_whitespace().last())
+            .and_then(|x| x.parse().ok())
+            .unwrap_or_else(|| panic!("no closest pair in {text}"));
+        (header, value)
+    };
+    let (m_header, m) = closest(&["--q", "panda_joint4=-1.5"]);
+    let (mm_header, mm) = closest(&[
+        "--q",
+        &format!("panda_joint4={}", (-1.5f64).to_degrees()),
+        "--units",
+        "mm-deg",
+    ]);
+    assert!(m_header.contains("signed distance, m)"), "{m_header}");
+    assert!(mm_header.contains("signed distance, mm)"), "{mm_header}");
+    assert!(m.abs() > 1e-3, "{m}");
+    assert!((mm - m * 1000.0).abs() < 1e-2, "{mm} vs {m}");
+}

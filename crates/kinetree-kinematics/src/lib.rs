@@ -49,6 +49,7 @@
 //! [`KinematicsError`] names the offending input, joint or frame; wrong lengths and NaN inputs are
 //! errors, never panics.
 
+mod actuated_ik;
 mod chain;
 mod chain_datums;
 pub mod configuration;
@@ -63,6 +64,7 @@ pub mod joint;
 pub mod lie_jacobians;
 pub mod reachable;
 
+pub use actuated_ik::{ActuatedIkReport, ActuationArgs, ArgActuation};
 pub use chain::{Chain, ChainStats};
 pub use data::{FrameId, KinematicsData};
 pub use derivatives::{

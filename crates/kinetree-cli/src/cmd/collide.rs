@@ -39,6 +39,9 @@ pub(crate) struct Args {
     /// How many of the closest pairs to list.
     #[arg(long, default_value_t = 10)]
     closest: usize,
+    /// Units of `--q` and of the printed depths and distances: `si` (m, rad) or `mm-deg`.
+    #[arg(long, value_enum, default_value_t = super::UnitsArg::Si)]
+    units: super::UnitsArg,
 }
 
 #[derive(serde::Deserialize)]
@@ -61,7 +64,11 @@ struct SceneObstacle {
 /// Runs the queries and prints the report.
 pub(crate) fn run(args: &Args) -> Result<()> {
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
-    let q = super::parse_named(&model, args.q.as_deref(), false)?;
+    let q = super::parse_named_in(&model, args.q.as_deref(), false, args.units)?;
+    let (scale, unit) = (
+        args.units.units().length.per_meter(),
+        args.units.units().length.as_str(),
+    );
     let mut options = CollisionOptions::default().with_model_file(&args.model, &args.mesh_paths);
     if args.skip_missing_meshes {
         options = options.skip_missing_meshes();
@@ -110,10 +117,10 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     outln!("self-collisions: {}", contacts.len())?;
     for c in &contacts {
         outln!(
-            "  {:<24} {:<24} depth {:.6} m",
+            "  {:<24} {:<24} depth {:.6} {unit}",
             shape_link(c.a),
             shape_link(c.b),
-            -c.distance
+            -c.distance * scale
         )?;
     }
     let world = compute_world_collisions(&cmodel, &mut data)?.to_vec();
@@ -121,34 +128,34 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         outln!("world collisions: {}", world.len())?;
         for c in &world {
             outln!(
-                "  {:<24} {:<24} depth {:.6} m",
+                "  {:<24} {:<24} depth {:.6} {unit}",
                 shape_link(c.a),
                 obstacle_name(&data, c.b),
-                -c.distance
+                -c.distance * scale
             )?;
         }
     }
     let mut distances = compute_distances(&cmodel, &mut data)?.to_vec();
     distances.sort_by(|x, y| x.distance.total_cmp(&y.distance));
-    outln!("closest self pairs (signed distance, m):")?;
+    outln!("closest self pairs (signed distance, {unit}):")?;
     for d in distances.iter().take(args.closest) {
         outln!(
             "  {:<24} {:<24} {:>10.6}",
             shape_link(d.a),
             shape_link(d.b),
-            d.distance
+            d.distance * scale
         )?;
     }
     if args.obstacles.is_some() {
         let mut w = compute_world_distances(&cmodel, &mut data)?.to_vec();
         w.sort_by(|x, y| x.distance.total_cmp(&y.distance));
-        outln!("closest world pairs (signed distance, m):")?;
+        outln!("closest world pairs (signed distance, {unit}):")?;
         for d in w.iter().take(args.closest) {
             outln!(
                 "  {:<24} {:<24} {:>10.6}",
                 shape_link(d.a),
                 obstacle_name(&data, d.b),
-                d.distance
+                d.distance * scale
             )?;
         }
     }

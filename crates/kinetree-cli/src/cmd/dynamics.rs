@@ -34,6 +34,10 @@ pub(crate) struct Args {
     /// The old spelling of the default (rigid-body dynamics), still accepted.
     #[arg(long, hide = true, conflicts_with = "joint_dynamics")]
     ignore_joint_dynamics: bool,
+    /// Units of `--q`, `--v`, `--a` and the printed accelerations: `si` (m, rad) or `mm-deg`.
+    /// Torques, forces and the mass matrix stay SI (N·m, N, kg·m²).
+    #[arg(long, value_enum, default_value_t = super::UnitsArg::Si)]
+    units: super::UnitsArg,
 }
 
 /// Computes and prints τ and/or q̈ and M.
@@ -42,8 +46,8 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         bail!("give --a (for the torques) or --tau (for the accelerations), or both");
     }
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
-    let q = super::parse_named(&model, args.q.as_deref(), false)?;
-    let v = super::parse_named(&model, args.v.as_deref(), true)?;
+    let q = super::parse_named_in(&model, args.q.as_deref(), false, args.units)?;
+    let v = super::parse_named_in(&model, args.v.as_deref(), true, args.units)?;
     let terms = if args.joint_dynamics {
         JointTerms::FromModel
     } else {
@@ -52,15 +56,22 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let mut data = DynamicsData::with_joint_terms(&model, terms);
     let mut out = String::new();
     if args.a.is_some() {
-        let a = super::parse_named(&model, args.a.as_deref(), true)?;
+        let a = super::parse_named_in(&model, args.a.as_deref(), true, args.units)?;
         let tau = rnea(&model, &mut data, &q, &v, &a)?.to_vec();
         let _ = writeln!(out, "tau = RNEA(q, v, a) (N·m or N):");
         out.push_str(&super::by_joint_lines(&model, &tau, ""));
     }
     if args.tau.is_some() {
         let tau = super::parse_named(&model, args.tau.as_deref(), true)?;
-        let ddq = aba(&model, &mut data, &q, &v, &tau)?.to_vec();
-        let _ = writeln!(out, "ddq = ABA(q, v, tau) (rad/s² or m/s²):");
+        let mut ddq = aba(&model, &mut data, &q, &v, &tau)?.to_vec();
+        let units = args.units.units();
+        model.convert_v(&mut ddq, units, false)?;
+        let _ = writeln!(
+            out,
+            "ddq = ABA(q, v, tau) ({}/s² or {}/s²):",
+            units.angle.as_str(),
+            units.length.as_str()
+        );
         out.push_str(&super::by_joint_lines(&model, &ddq, ""));
     }
     let nv = model.nv();

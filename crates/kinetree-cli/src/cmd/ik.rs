@@ -39,6 +39,9 @@ pub(crate) struct Args {
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
+    /// Units of joint values and poses given and printed: `si` (m, rad) or `mm-deg`.
+    #[arg(long, value_enum, default_value_t = super::UnitsArg::Si)]
+    units: super::UnitsArg,
 }
 
 /// Solves and prints.
@@ -52,7 +55,16 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             t.len()
         );
     }
-    let position = DVec3::new(t[0], t[1], t[2]);
+    let units = args.units.units();
+    let mm = units.length.per_meter();
+    let angle = |x: f64| {
+        if args.units == super::UnitsArg::MmDeg {
+            x.to_radians()
+        } else {
+            x
+        }
+    };
+    let position = DVec3::new(t[0], t[1], t[2]) / mm;
     let target = if args.position_only {
         IkTarget::position(frame, position)
     } else {
@@ -68,14 +80,14 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             (Some(_), _) => bail!(
                 "give the orientation either as roll,pitch,yaw in --target or as --quat, not both"
             ),
-            (None, 6) => Se3::from_rpy(t[3], t[4], t[5]).rotation,
+            (None, 6) => Se3::from_rpy(angle(t[3]), angle(t[4]), angle(t[5])).rotation,
             (None, _) => bail!(
                 "give an orientation (roll,pitch,yaw in --target, or --quat) or --position-only"
             ),
         };
         IkTarget::new(frame, Se3::new(rotation, position))
     };
-    let q0 = super::parse_named(&model, args.start.as_deref(), false)?;
+    let q0 = super::parse_named_in(&model, args.start.as_deref(), false, args.units)?;
     let params = IkParams {
         seed: args.seed,
         ..IkParams::default()
@@ -90,12 +102,23 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         IkStatus::BestEffort { residual } => format!("best_effort (residual {residual:.3e})"),
         IkStatus::Failed => "failed".to_string(),
     };
+    let mut q_out = report.q.to_vec();
+    model.convert_q(&mut q_out, units, false)?;
+    let (position_error, orientation_error) = (
+        report.position_error * mm,
+        if args.units == super::UnitsArg::MmDeg {
+            report.orientation_error.to_degrees()
+        } else {
+            report.orientation_error
+        },
+    );
+    let (length_unit, angle_unit) = (units.length.as_str(), units.angle.as_str());
     let values: Vec<(String, Vec<f64>)> = model
         .moving_joints()
         .map(|j| {
             (
                 model.joint(j).name.clone(),
-                report.q[model.joint_q_range(j)].to_vec(),
+                q_out[model.joint_q_range(j)].to_vec(),
             )
         })
         .collect();
@@ -120,7 +143,8 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         };
         let out = serde_json::json!({
             "status": status_key, "q": q,
-            "position_error": report.position_error, "orientation_error": report.orientation_error,
+            "position_error": position_error, "orientation_error": orientation_error,
+            "units": { "length": length_unit, "angle": angle_unit },
             "iterations": report.iterations, "restarts": report.restarts,
             "elapsed_us": report.elapsed.as_secs_f64() * 1e6,
         });
@@ -128,9 +152,9 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     } else {
         outln!("status: {status}")?;
         outln!(
-            "position error {:.3e} m, orientation error {:.3e} rad, {} iterations, {} restarts, {:.1} µs",
-            report.position_error,
-            report.orientation_error,
+            "position error {:.3e} {length_unit}, orientation error {:.3e} {angle_unit}, {} iterations, {} restarts, {:.1} µs",
+            position_error,
+            orientation_error,
             report.iterations,
             report.restarts,
             report.elapsed.as_secs_f64() * 1e6

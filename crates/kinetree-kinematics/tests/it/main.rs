@@ -1,5 +1,6 @@
 //! Integration tests of the kinematics layer.
 
+mod actuated_ik;
 mod allocation;
 mod bad_input;
 mod common;
