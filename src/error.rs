@@ -32,10 +32,17 @@ pub enum Error {
     #[cfg(feature = "kinematics")]
     #[error(transparent)]
     Reachable(#[from] crate::kinematics::reachable::ReachableError),
-    /// A batch request (`kinetree compute` input) is malformed; the message names the sample.
+    /// A sample of a batch ([`crate::batch::evaluate`]) failed: which one, and why (the layer's
+    /// error, e.g. [`Error::Kinematics`] for an unknown joint).
     #[cfg(feature = "kinematics")]
-    #[error("{0}")]
-    Batch(String),
+    #[error("sample {index}: {source}")]
+    Sample {
+        /// The sample's index in the request.
+        index: usize,
+        /// The layer's error.
+        #[source]
+        source: Box<Error>,
+    },
     /// A dynamics algorithm rejected its input.
     #[cfg(feature = "dynamics")]
     #[error(transparent)]

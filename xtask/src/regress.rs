@@ -7,7 +7,7 @@
 //! `cargo test` (see the test at the bottom).
 
 use anyhow::{Context, Result, bail};
-use kinetree::batch::{BatchOptions, evaluate};
+use kinetree::batch::{BatchOptions, SampleInput, evaluate};
 use kinetree::model::{Model, RootJoint};
 use serde_json::Value;
 use std::collections::HashMap;
@@ -142,8 +142,17 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
             .is_array()
             .then(kinetree::collision::CollisionOptions::default),
     };
-    let response = evaluate(&model, &reference, &options)
+    let inputs = reference["samples"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|sample| serde_json::from_value::<SampleInput>(sample["state"].clone()))
+        .collect::<Result<Vec<_>, _>>()
+        .with_context(|| format!("{robot}: malformed sample state"))?;
+    let output = evaluate(&model, &inputs, &options)
         .with_context(|| format!("{robot}: evaluation failed"))?;
+    // The comparison below reads the response in its JSON form, key by key as the reference.
+    let response = serde_json::to_value(&output)?;
 
     // Our v column of each of Pinocchio's v columns, by joint name.
     let ours_idx: HashMap<&str, usize> = response["model"]["joints"]

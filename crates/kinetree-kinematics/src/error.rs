@@ -90,7 +90,7 @@ pub enum KinematicsError {
         reason: String,
     },
     /// A vector given by joint name leaves out a moving joint that must be named.
-    #[error("{space} has no value for joint '{joint}'")]
+    #[error("'{space}' has no value for joint '{joint}'")]
     MissingJointValue {
         /// The joint left out.
         joint: String,

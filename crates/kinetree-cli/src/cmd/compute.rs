@@ -4,7 +4,8 @@
 //! inputs allow.
 
 use anyhow::{Context, Result};
-use kinetree::batch::{BatchOptions, evaluate};
+use kinetree::batch::{BatchOptions, SampleInput, evaluate};
+use serde::Deserialize;
 use serde_json::Value;
 use std::path::PathBuf;
 
@@ -83,6 +84,8 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         .with_context(|| format!("cannot read {}", args.states.display()))?;
     let request: Value = serde_json::from_str(&text)
         .with_context(|| format!("cannot parse {} as JSON", args.states.display()))?;
+    let (samples, names) = parse_request(&request)
+        .with_context(|| format!("cannot read the samples of {}", args.states.display()))?;
     let options = BatchOptions {
         jacobians: args.jacobians.clone(),
         no_dynamics: false,
@@ -97,14 +100,22 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             o
         }),
     };
-    let response = evaluate(&model, &request, &options)
+    let output = evaluate(&model, &samples, &options)
         .with_context(|| format!("cannot evaluate {}", args.states.display()))?;
-    for skipped in response["model"]["skipped_meshes"]
-        .as_array()
+    for skipped in &output.model.skipped_meshes {
+        eprintln!("skipped mesh: {skipped}");
+    }
+    let mut response = serde_json::to_value(&output)?;
+    // A sample's name (any JSON value) is copied to its result.
+    for (out, name) in response["samples"]
+        .as_array_mut()
         .into_iter()
         .flatten()
+        .zip(names)
     {
-        eprintln!("skipped mesh: {}", skipped.as_str().unwrap_or_default());
+        if let (Some(out), Some(name)) = (out.as_object_mut(), name) {
+            out.insert("name".into(), name);
+        }
     }
     let mut json = serde_json::to_string(&response)?;
     json.push('\n');
@@ -114,4 +125,25 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         None => out!("{json}")?,
     }
     Ok(())
+}
+
+/// The samples of a request (`{"samples": [...]}`; a sample may wrap its maps in `"state"`, as a
+/// reference file's samples do) and each sample's `name`, if it has one.
+fn parse_request(request: &Value) -> Result<(Vec<SampleInput>, Vec<Option<Value>>)> {
+    let samples = request
+        .get("samples")
+        .and_then(Value::as_array)
+        .context("the request has no 'samples' array")?;
+    let mut inputs = Vec::with_capacity(samples.len());
+    let mut names = Vec::with_capacity(samples.len());
+    for (i, sample) in samples.iter().enumerate() {
+        let state = match sample.get("state") {
+            Some(state) if state.is_object() => state,
+            _ => sample,
+        };
+        let input = SampleInput::deserialize(state).with_context(|| format!("sample {i}"))?;
+        inputs.push(input);
+        names.push(sample.get("name").cloned());
+    }
+    Ok((inputs, names))
 }
