@@ -57,3 +57,11 @@ pub use origin_inertia::OriginInertia;
 pub use rotation_form::RotationForm;
 pub use se3::Se3;
 pub use symmetric3::{InertiaDefect, Symmetric3};
+
+/// A rotational inertia tensor (kg·m²): the name the `urdf` Python library and most textbooks
+/// use for [`Symmetric3`]. Build it from its moments and products
+/// ([`Symmetric3::from_moments_products`]), its six entries ([`Symmetric3::from_entries`]), a
+/// 3x3 matrix ([`Symmetric3::from_mat3_checked`]) or Voigt order ([`Symmetric3::from_voigt`]);
+/// read it back with [`Symmetric3::moments`], [`Symmetric3::products`],
+/// [`Symmetric3::to_mat3`] and [`Symmetric3::to_voigt`].
+pub type InertiaTensor = Symmetric3;

@@ -111,6 +111,53 @@ impl Symmetric3 {
         }
     }
 
+    /// From the moments of inertia `[ixx, iyy, izz]` (the diagonal) and the products of inertia
+    /// `[ixy, ixz, iyz]` (the off-diagonal entries, as URDF writes them), as the `urdf` Python
+    /// library's `InertiaTensor(moments=…, products=…)`.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree_spatial::InertiaTensor;
+    /// let tensor = InertiaTensor::from_moments_products([0.05, 0.06, 0.03], [0.001, -0.002, 0.0]);
+    /// assert_eq!(tensor.moments(), [0.05, 0.06, 0.03]);
+    /// assert_eq!(tensor.products(), [0.001, -0.002, 0.0]);
+    /// assert_eq!(tensor.to_mat3().row(0).to_array(), [0.05, 0.001, -0.002]);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub const fn from_moments_products(moments: [f64; 3], products: [f64; 3]) -> Self {
+        Self::new(
+            moments[0],
+            products[0],
+            products[1],
+            moments[1],
+            products[2],
+            moments[2],
+        )
+    }
+
+    /// The moments of inertia `[ixx, iyy, izz]`: the diagonal.
+    #[inline]
+    #[must_use]
+    pub const fn moments(&self) -> [f64; 3] {
+        [self.xx, self.yy, self.zz]
+    }
+
+    /// The products of inertia `[ixy, ixz, iyz]`: the off-diagonal entries.
+    #[inline]
+    #[must_use]
+    pub const fn products(&self) -> [f64; 3] {
+        [self.xy, self.xz, self.yz]
+    }
+
+    /// From the six scalar entries by URDF name (the `urdf` library's `from_entries`); the
+    /// same as [`Symmetric3::new`].
+    #[inline]
+    #[must_use]
+    pub const fn from_entries(ixx: f64, ixy: f64, ixz: f64, iyy: f64, iyz: f64, izz: f64) -> Self {
+        Self::new(ixx, ixy, ixz, iyy, iyz, izz)
+    }
+
     /// A diagonal matrix.
     #[inline]
     #[must_use]
@@ -135,6 +182,7 @@ impl Symmetric3 {
     /// The entries in Voigt order `[ixx, iyy, izz, iyz, ixz, ixy]`.
     #[inline]
     #[must_use]
+    #[doc(alias = "as_voigt")]
     pub const fn to_voigt(&self) -> [f64; 6] {
         [self.xx, self.yy, self.zz, self.yz, self.xz, self.xy]
     }
@@ -174,6 +222,7 @@ impl Symmetric3 {
     /// The full 3x3 matrix.
     #[inline]
     #[must_use]
+    #[doc(alias = "as_matrix")]
     pub fn to_mat3(&self) -> DMat3 {
         DMat3::from_cols(
             DVec3::new(self.xx, self.xy, self.xz),

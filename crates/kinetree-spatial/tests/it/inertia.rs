@@ -63,3 +63,35 @@ proptest! {
         prop_assert!(i.transformed(&t).check(1e-9).is_ok());
     }
 }
+
+/// The `urdf` library's `InertiaTensor` examples: moments and products, the six entries, a 3x3
+/// matrix and Voigt order all describe the same tensor, and read back the same.
+#[test]
+fn inertia_tensor_from_moments_products_matrix_and_voigt() {
+    use kinetree_spatial::{DMat3, DVec3, InertiaTensor};
+    let t = InertiaTensor::from_moments_products([0.05, 0.06, 0.03], [0.001, -0.002, 0.0]);
+    assert_eq!(t.moments(), [0.05, 0.06, 0.03]);
+    assert_eq!(t.products(), [0.001, -0.002, 0.0]);
+    let m = DMat3::from_cols(
+        DVec3::new(0.05, 0.001, -0.002),
+        DVec3::new(0.001, 0.06, 0.0),
+        DVec3::new(-0.002, 0.0, 0.03),
+    );
+    assert_eq!(t.to_mat3(), m);
+    assert_eq!(InertiaTensor::from_mat3_checked(&m, 0.0).unwrap(), t);
+    assert_eq!(
+        InertiaTensor::from_entries(0.05, 0.001, -0.002, 0.06, 0.0, 0.03),
+        t
+    );
+    // Voigt order [ixx, iyy, izz, iyz, ixz, ixy].
+    assert_eq!(t.to_voigt(), [0.05, 0.06, 0.03, 0.0, -0.002, 0.001]);
+    let v = InertiaTensor::from_voigt([0.05, 0.05, 0.08, 0.0, 0.0, 0.01]);
+    assert_eq!(
+        (v.moments(), v.products()),
+        ([0.05, 0.05, 0.08], [0.01, 0.0, 0.0])
+    );
+    assert_eq!(
+        InertiaTensor::from_moments_products(v.moments(), v.products()),
+        v
+    );
+}
