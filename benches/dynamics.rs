@@ -96,7 +96,7 @@ fn dynamics(c: &mut Criterion) {
         group.bench_function("fd_crb", |b| {
             b.iter(|| {
                 let s = black_box(next());
-                forward_dynamics_crb(&model, &mut data, &s.q, &s.v, &s.a).map(|x| x[0])
+                forward_dynamics_crb(&model, &mut data, &s.q, &s.v, Some(&s.a), None).map(|x| x[0])
             })
         });
         group.bench_function("minv", |b| {

@@ -16,7 +16,9 @@
 //! | `T66toRotationTranslation(T66)` | [`t66_to_rotation_translation`] |
 //! | `JointTransformMotionSubspace66(jointType, q)` | [`joint_transform_motion_subspace_66`] |
 //! | `KinematicTree66.ComputeMassMatrixAndForceTerms(q, q_t, externalForces)` | [`compute_mass_matrix_and_force_terms`] |
-//! | `KinematicTree66.ForwardDynamicsCRB(q, q_t, torques)` | [`forward_dynamics_crb`] |
+//! | `KinematicTree66.ForwardDynamicsCRB(q, q_t, torques, forces)` | [`forward_dynamics_crb`] |
+//! | `CRM(v)`, `CRF(v)` | [`crm`], [`crf`] |
+//! | `KinematicTree33`'s `listOfInertia3D` (about the joint) ↔ inertia about the COM | [`tree33_inertia`], [`inertia_from_tree33`] |
 
 use crate::data::DynamicsData;
 use crate::error::{DynamicsError, check_vector};
@@ -24,7 +26,7 @@ use crate::external::ExternalForces;
 use crate::rnea::{Output, check_inputs, sweep};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
-use kinetree_kinematics::spatial::{Inertia, Se3, rotation};
+use kinetree_kinematics::spatial::{Inertia, Motion, Se3, rotation};
 use kinetree_kinematics::{JointModel, KinematicsError};
 
 /// A 6x6 matrix in Featherstone's `[angular; linear]` order, row-major (`m[row][col]`).
@@ -124,6 +126,51 @@ pub fn t66_to_rotation_translation(t66: &T66) -> (DMat3, DVec3) {
     (a, DVec3::new(t.y_axis.z, t.z_axis.x, t.x_axis.y))
 }
 
+/// Exudyn's `CRM(v)`: Featherstone's 6x6 cross-product operator for motion vectors, in
+/// `[angular; linear]` order: `crm(v)·m = v ×ₘ m`, i.e. `[[ω×, 0], [v×, ω×]]` for
+/// `v = [ω; v]`.
+#[must_use]
+#[doc(alias = "CRM")]
+pub fn crm(v: [f64; 6]) -> T66 {
+    swap_halves(&Motion::from_featherstone(v).to_cross_motion_matrix())
+}
+
+/// Exudyn's `CRF(v)`: Featherstone's 6x6 cross-product operator for force vectors, in
+/// `[angular; linear]` order: `crf(v)·f = v ×* f`, i.e. `[[ω×, v×], [0, ω×]] = -crm(v)ᵀ`.
+#[must_use]
+#[doc(alias = "CRF")]
+pub fn crf(v: [f64; 6]) -> T66 {
+    swap_halves(&Motion::from_featherstone(v).to_cross_force_matrix())
+}
+
+/// The rotational inertia about the body's reference point (its joint frame's origin) that
+/// Exudyn's `KinematicTree33` takes as `listOfInertia3D`, from `mass`, the centre of mass `com`
+/// (from the reference point, body axes) and the inertia about the centre of mass:
+/// `I_ref = I_com + m·(|c|²·1 - c·cᵀ)` (parallel-axis theorem). It is the upper-left block of
+/// [`mass_com_inertia_to_t66`].
+#[must_use]
+pub fn tree33_inertia(mass: f64, com: DVec3, inertia_about_com: DMat3) -> DMat3 {
+    inertia_about_com + parallel_axis(mass, com)
+}
+
+/// The inverse of [`tree33_inertia`]: the inertia about the centre of mass from Exudyn's
+/// `KinematicTree33` inertia about the reference point, its `listOfCOM` and `listOfMass`:
+/// `I_com = I_ref - m·(|c|²·1 - c·cᵀ)`. With [`Inertia::new`] and a [`Symmetric3`] of it, a
+/// `KinematicTree33` body becomes a kinetree inertia.
+///
+/// [`Symmetric3`]: kinetree_kinematics::spatial::Symmetric3
+#[must_use]
+pub fn inertia_from_tree33(mass: f64, com: DVec3, inertia_about_reference: DMat3) -> DMat3 {
+    inertia_about_reference - parallel_axis(mass, com)
+}
+
+/// `m·(|c|²·1 - c·cᵀ)`: the inertia of a point mass `m` at `c` about the origin.
+fn parallel_axis(mass: f64, c: DVec3) -> DMat3 {
+    (DMat3::from_diagonal(DVec3::splat(c.length_squared()))
+        - DMat3::from_cols(c * c.x, c * c.y, c * c.z))
+        * mass
+}
+
 /// The joint transform and motion subspace of one joint, as Exudyn's
 /// `JointTransformMotionSubspace66` returns them.
 #[derive(Clone, Debug, PartialEq)]
@@ -210,30 +257,63 @@ pub fn compute_mass_matrix_and_force_terms<'d>(
     Ok((&data.mass_matrix, &data.nle))
 }
 
-/// Exudyn's `ForwardDynamicsCRB`: forward dynamics through the mass matrix,
-/// `q̈ = M(q)⁻¹·(τ - f(q, q̇))`, with [`crba`](crate::crba), the tree-sparse factorization
-/// ([`factorize_mass_matrix`](crate::factorize_mass_matrix)) and
-/// [`nonlinear_effects`](crate::nonlinear_effects). Gives the same result as
-/// [`aba`](crate::aba) (which is faster for one call); the factorization stays in `data` for more
-/// solves. Stored in [`DynamicsData::ddq`] and returned.
+/// Exudyn's `ForwardDynamicsCRB(q, q_t, torques=[], forces=[])`: forward dynamics through the
+/// mass matrix, `q̈ = M(q)⁻¹·(τ - f(q, q̇, f_ext))`, with [`crba`](crate::crba), the tree-sparse
+/// factorization ([`factorize_mass_matrix`](crate::factorize_mass_matrix)) and the force terms of
+/// [`compute_mass_matrix_and_force_terms`]. `tau: None` means zero joint torques; `fext` are
+/// wrenches on links, in the frame each was added in (Exudyn gives them in the world frame:
+/// [`ReferenceFrame::World`](crate::ReferenceFrame::World)) — where Exudyn's own Python
+/// implementation raises "forces not implemented". Gives the same result as
+/// [`aba_with_external_forces`](crate::aba_with_external_forces) (which is faster for one call);
+/// the factorization stays in `data` for more solves. Stored in [`DynamicsData::ddq`] and
+/// returned. Allocates nothing.
 ///
 /// # Errors
-/// As [`aba`](crate::aba).
+/// As [`aba`](crate::aba); [`DynamicsError::DataMismatch`] when `fext` belongs to another model.
+///
+/// # Examples
+/// ```
+/// use kinetree_dynamics::exudyn::forward_dynamics_crb;
+/// use kinetree_dynamics::model::{Model, RootJoint};
+/// use kinetree_dynamics::spatial::{glam::DVec3, Force};
+/// use kinetree_dynamics::{DynamicsData, ExternalForces, FrameId, ReferenceFrame};
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// // A 1 kg slider along world x, pushed by 3 N in the world frame: 3 m/s².
+/// let model = Model::from_urdf_str(r#"<robot name="s"><link name="rail"/>
+///   <link name="cart"><inertial><mass value="1"/>
+///     <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+///   <joint name="x" type="prismatic"><parent link="rail"/><child link="cart"/><axis xyz="1 0 0"/>
+///     <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#, RootJoint::Fixed)?;
+/// let mut data = DynamicsData::new(&model);
+/// let mut fext = ExternalForces::new(&model);
+/// let cart = FrameId::find(&model, "cart")?;
+/// fext.add(&model, cart, ReferenceFrame::World, Force::new(DVec3::new(3.0, 0.0, 0.0), DVec3::ZERO))?;
+/// let ddq = forward_dynamics_crb(&model, &mut data, &[0.0], &[0.0], None, Some(&fext))?;
+/// assert!((ddq[0] - 3.0).abs() < 1e-12);
+/// # Ok(())
+/// # }
+/// ```
 #[doc(alias = "ForwardDynamicsCRB")]
 pub fn forward_dynamics_crb<'d>(
     model: &Model,
     data: &'d mut DynamicsData,
     q: &[f64],
     v: &[f64],
-    tau: &[f64],
+    tau: Option<&[f64]>,
+    fext: Option<&ExternalForces>,
 ) -> Result<&'d [f64], DynamicsError> {
     check_inputs(model, data, q, Some(v), None)?;
-    check_vector("tau", tau, model.nv())?;
+    if let Some(tau) = tau {
+        check_vector("tau", tau, model.nv())?;
+    }
+    if let Some(fext) = fext {
+        fext.check_model(model)?;
+    }
     crate::crba::compute(model, data, q);
     crate::factor::factorize(model, data)?;
-    sweep::<true, false>(model, data, q, v, &[], None, Output::Nle);
-    for ((x, t), n) in data.ddq.iter_mut().zip(tau).zip(&data.nle) {
-        *x = t - n;
+    sweep::<true, false>(model, data, q, v, &[], fext, Output::Nle);
+    for (k, (x, n)) in data.ddq.iter_mut().zip(&data.nle).enumerate() {
+        *x = tau.map_or(0.0, |t| t[k]) - n;
     }
     crate::factor::solve_in_place(&data.factor, &mut data.ddq);
     Ok(&data.ddq)

@@ -76,7 +76,8 @@ fn hot_paths_do_not_allocate() {
                 mass_matrix_inverse(&model, &mut data, &q).unwrap();
                 aba(&model, &mut data, &q, &v, &tau).unwrap();
                 aba_with_external_forces(&model, &mut data, &q, &v, &tau, &fext).unwrap();
-                exudyn::forward_dynamics_crb(&model, &mut data, &q, &v, &tau).unwrap();
+                exudyn::forward_dynamics_crb(&model, &mut data, &q, &v, Some(&tau), Some(&fext))
+                    .unwrap();
                 exudyn::compute_mass_matrix_and_force_terms(&model, &mut data, &q, &v, &fext)
                     .unwrap();
                 kinetic_energy(&model, &mut data, &q, &v).unwrap();

@@ -32,7 +32,8 @@ fn aba_inverts_rnea() {
                 let e = relative_error(&ddq, &a, 1.0);
                 assert!(e < 1e-9, "{name} {mode:?}: aba(rnea(a)) - a = {e:e}");
                 // The CRBA route gives the same accelerations.
-                let crb = exudyn::forward_dynamics_crb(&model, &mut data, &q, &v, &tau).unwrap();
+                let crb = exudyn::forward_dynamics_crb(&model, &mut data, &q, &v, Some(&tau), None)
+                    .unwrap();
                 let e = relative_error(crb, &a, 1.0);
                 assert!(
                     e < 1e-9,
@@ -231,6 +232,26 @@ fn external_forces_act_through_the_jacobian_transpose() {
             let ddq = aba_with_external_forces(&model, &mut data, &q, &v, &with, &fext).unwrap();
             let e = relative_error(ddq, &a, 1.0);
             assert!(e < 1e-9, "{name}: aba with external forces error {e:e}");
+            // Exudyn's ForwardDynamicsCRB with forces, and with the torques left out (zero).
+            let crb =
+                exudyn::forward_dynamics_crb(&model, &mut data, &q, &v, Some(&with), Some(&fext))
+                    .unwrap();
+            let e = relative_error(crb, &a, 1.0);
+            assert!(
+                e < 1e-9,
+                "{name}: forward_dynamics_crb with forces error {e:e}"
+            );
+            let free = exudyn::forward_dynamics_crb(&model, &mut data, &q, &v, None, Some(&fext))
+                .unwrap()
+                .to_vec();
+            let zero = vec![0.0; nv];
+            let expected =
+                aba_with_external_forces(&model, &mut data, &q, &v, &zero, &fext).unwrap();
+            let e = relative_error(&free, expected, 1.0);
+            assert!(
+                e < 1e-9,
+                "{name}: forward_dynamics_crb without torques error {e:e}"
+            );
             // Exudyn's form: M·a + f(q, v, fext) = τ.
             let (m, f) =
                 exudyn::compute_mass_matrix_and_force_terms(&model, &mut data, &q, &v, &fext)

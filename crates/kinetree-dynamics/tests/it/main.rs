@@ -4,6 +4,7 @@ mod allocation;
 mod common;
 mod derivatives;
 mod errors;
+mod exudyn;
 mod identities;
 mod kinematics_derivatives;
 mod limits;
