@@ -29,9 +29,9 @@ pub enum Error {
     #[error(transparent)]
     Kinematics(#[from] crate::kinematics::KinematicsError),
     /// Reachable-workspace sampling rejected its input.
-    #[cfg(feature = "kinematics")]
+    #[cfg(feature = "workspace")]
     #[error(transparent)]
-    Reachable(#[from] crate::kinematics::reachable::ReachableError),
+    Reachable(#[from] crate::workspace::ReachableError),
     /// A sample of a batch ([`crate::batch::evaluate`]) failed: which one, and why (the layer's
     /// error, e.g. [`Error::Kinematics`] for an unknown joint).
     #[cfg(feature = "kinematics")]

@@ -3,7 +3,7 @@
 //! ## This crate
 //!
 //! `kinetree` is the facade: it re-exports each layer as a module ([`spatial`], `model`,
-//! `kinematics`, `dynamics`, `collision`), gathers the everyday names in [`prelude`], and wraps
+//! `kinematics`, `dynamics`, `collision`, `workspace`), gathers the everyday names in [`prelude`], and wraps
 //! every layer's error in one [`Error`] so that `?` works across layers.
 //!
 //! ## Optional cargo features
@@ -11,6 +11,8 @@
 //! - `kinematics` (default, implies `model`): forward kinematics, Jacobians, IK.
 //! - `dynamics` (default, implies `kinematics`): RNEA, CRBA, ABA.
 //! - `collision` (default, implies `kinematics`): self and world collision.
+//! - `workspace` (default, implies `kinematics`): reachable-workspace sampling, in parallel with
+//!   rayon.
 //!
 //! With `default-features = false` only [`spatial`] is left.
 
@@ -27,6 +29,9 @@ pub use kinetree_dynamics as dynamics;
 
 #[cfg(feature = "collision")]
 pub use kinetree_collision as collision;
+
+#[cfg(feature = "workspace")]
+pub use kinetree_workspace as workspace;
 
 #[cfg(feature = "kinematics")]
 pub mod batch;

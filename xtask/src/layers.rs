@@ -4,7 +4,8 @@
 //! tables included) on exactly one kinetree crate, the layer directly below it:
 //!
 //! ```text
-//! kinetree-spatial ← kinetree-model ← kinetree-kinematics ← { kinetree-dynamics, kinetree-collision }
+//! kinetree-spatial ← kinetree-model ← kinetree-kinematics ← { kinetree-dynamics, kinetree-collision,
+//!                                                             kinetree-workspace }
 //! kinetree-cli → kinetree (the facade) only
 //! ```
 //!
@@ -28,6 +29,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("kinetree-kinematics", &["kinetree-model"]),
     ("kinetree-dynamics", &["kinetree-kinematics"]),
     ("kinetree-collision", &["kinetree-kinematics"]),
+    ("kinetree-workspace", &["kinetree-kinematics"]),
     ("kinetree-cli", &["kinetree"]),
 ];
 

@@ -62,7 +62,6 @@ pub mod ik;
 mod jacobian;
 pub mod joint;
 pub mod lie_jacobians;
-pub mod reachable;
 
 pub use actuated_ik::{ActuatedIkReport, ActuationArgs, ArgActuation};
 pub use chain::{Chain, ChainStats};

@@ -8,10 +8,10 @@
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use kinetree::kinematics::FrameId;
-use kinetree::kinematics::reachable::{
+use kinetree::spatial::DVec3;
+use kinetree::workspace::{
     ReachableParams, ReachableSet, Sampling, TaskSpace, sample_reachable_with_progress,
 };
-use kinetree::spatial::DVec3;
 use std::fmt::Write as _;
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -691,8 +691,8 @@ fn plot_svg(set: &ReachableSet, summary: &Summary) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use kinetree::kinematics::reachable::sample_reachable;
     use kinetree::model::samples;
+    use kinetree::workspace::sample_reachable;
 
     #[derive(Debug, clap::Parser)]
     struct Cli {

@@ -9,6 +9,5 @@ mod finite_differences;
 mod frame_id;
 mod ik;
 mod mimic;
-mod reachable;
 mod reference;
 mod yapcad;

@@ -2,14 +2,14 @@
 //! manipulability, UR5's reach from its shoulder, determinism across thread counts, exports and
 //! input errors.
 
-use crate::common::reference_dir;
-use kinetree_kinematics::model::{Model, RootJoint, samples};
-use kinetree_kinematics::reachable::{
+use crate::reference_dir;
+use kinetree_workspace::kinematics::model::{Model, RootJoint, samples};
+use kinetree_workspace::kinematics::spatial::{DQuat, DVec3};
+use kinetree_workspace::kinematics::{FrameId, KinematicsError};
+use kinetree_workspace::{
     CHUNK_SIZE, ReachableError, ReachableParams, ReachableSet, Sampling, TaskSpace,
     sample_reachable, sample_reachable_with_progress,
 };
-use kinetree_kinematics::spatial::{DQuat, DVec3};
-use kinetree_kinematics::{FrameId, KinematicsError};
 use std::f64::consts::PI;
 use std::sync::Mutex;
 
@@ -267,7 +267,7 @@ fn a_floating_base_is_held_at_q0() {
     assert!(a.bounds().min.distance(b.bounds().min) < 1e-12);
     assert!(a.bounds().max.distance(b.bounds().max) < 1e-12);
     // Raising the base raises the cloud.
-    let mut q0 = kinetree_kinematics::configuration::neutral_configuration(&floating);
+    let mut q0 = kinetree_workspace::kinematics::configuration::neutral_configuration(&floating);
     q0[2] = 1.0;
     let lifted = sample_reachable(
         &floating,
@@ -394,7 +394,7 @@ fn bad_inputs_are_typed_errors() {
 
 #[test]
 fn a_coupled_mimic_follower_is_moved_by_its_leader() {
-    use kinetree_kinematics::model::{LoadOptions, MimicMode};
+    use kinetree_workspace::kinematics::model::{LoadOptions, MimicMode};
     let path = reference_dir().join("../robots/panda.urdf");
     let options = LoadOptions {
         mimic: MimicMode::Coupled,
