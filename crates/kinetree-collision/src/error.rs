@@ -53,6 +53,17 @@ pub enum CollisionError {
         /// What is wrong.
         message: String,
     },
+    /// An obstacle scene ([`ObstacleScene`](crate::ObstacleScene)) is not valid JSON, misses a
+    /// field or has an unknown one.
+    #[error("{message}")]
+    InvalidScene {
+        /// Line of the problem (1-based; 0 when unknown).
+        line: usize,
+        /// Column of the problem (1-based; 0 when unknown).
+        column: usize,
+        /// What is wrong, with its line and column.
+        message: String,
+    },
     /// A [`CollisionData`](crate::CollisionData) was created for another collision model.
     #[error(
         "the collision data was created for a collision model with {data_shapes} shapes and {data_pairs} pairs, not this one ({model_shapes} shapes, {model_pairs} pairs)"

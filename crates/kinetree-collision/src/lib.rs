@@ -4,7 +4,7 @@
 //! candidate pairs (adjacent bodies and disabled link pairs removed, SRDF import, a sampling
 //! tool that proposes pairs to disable), and the queries: any collision, all colliding pairs with
 //! contacts, signed distances with witness points, against the robot itself and against world
-//! obstacles. It sits on `kinetree-kinematics` (re-exported as [`kinematics`]) and uses
+//! obstacles (added one by one, or read from a JSON [`ObstacleScene`]). It sits on `kinetree-kinematics` (re-exported as [`kinematics`]) and uses
 //! [parry3d-f64](parry) for every geometric test.
 //!
 //! The split follows Pinocchio's `GeometryModel`/`GeometryData`: a [`CollisionModel`] is built
@@ -84,6 +84,7 @@ mod pairs;
 mod pose;
 pub mod query;
 pub mod sampling;
+mod scene;
 pub mod srdf;
 
 pub use build::{CollisionOptions, MeshMode, MissingMeshes, shape_from_geometry};
@@ -98,3 +99,4 @@ pub use query::{
     compute_world_collisions, compute_world_distances,
 };
 pub use sampling::{DisableReason, PairProposal, PairSampling, propose_disabled_pairs};
+pub use scene::{ObstacleScene, SceneObstacle};

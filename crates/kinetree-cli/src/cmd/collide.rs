@@ -3,16 +3,15 @@
 //!
 //! A scene file holds `{"obstacles": [{"name": "table", "geometry": {"type": "box", "size":
 //! [1, 1, 0.1]}, "xyz": [0.5, 0, 0.3], "rpy": [0, 0, 0]}]}` (geometry as in kinetree's JSON
-//! model format: box, cylinder, sphere, capsule, mesh).
+//! model format: box, cylinder, sphere, capsule, mesh), read by
+//! [`ObstacleScene`](kinetree::collision::ObstacleScene).
 
 use anyhow::{Context, Result};
 use kinetree::collision::{
-    CollisionData, CollisionModel, CollisionOptions, compute_distances, compute_self_collisions,
-    compute_world_collisions, compute_world_distances,
+    CollisionData, CollisionModel, CollisionOptions, ObstacleScene, compute_distances,
+    compute_self_collisions, compute_world_collisions, compute_world_distances,
 };
 use kinetree::kinematics::KinematicsData;
-use kinetree::model::Geometry;
-use kinetree::spatial::Se3;
 use std::path::PathBuf;
 
 /// Arguments of `kinetree collide`.
@@ -44,23 +43,6 @@ pub(crate) struct Args {
     units: super::UnitsArg,
 }
 
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Scene {
-    obstacles: Vec<SceneObstacle>,
-}
-
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SceneObstacle {
-    name: String,
-    geometry: Geometry,
-    #[serde(default)]
-    xyz: [f64; 3],
-    #[serde(default)]
-    rpy: [f64; 3],
-}
-
 /// Runs the queries and prints the report.
 pub(crate) fn run(args: &Args) -> Result<()> {
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
@@ -86,16 +68,11 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     if let Some(path) = &args.obstacles {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read {}", path.display()))?;
-        let scene: Scene = serde_json::from_str(&text)
+        let scene = ObstacleScene::from_json_str(&text)
             .with_context(|| format!("cannot parse {}", path.display()))?;
-        for o in scene.obstacles {
-            data.add_obstacle(
-                o.name.clone(),
-                &o.geometry,
-                &Se3::from_xyz_rpy(o.xyz, o.rpy),
-                &options,
-            )
-            .with_context(|| format!("obstacle '{}' in {}", o.name, path.display()))?;
+        for o in &scene.obstacles {
+            data.add_obstacle(o.name.clone(), &o.geometry, &o.placement(), &options)
+                .with_context(|| format!("obstacle '{}' in {}", o.name, path.display()))?;
         }
     }
     let mut kin = KinematicsData::new(&model);

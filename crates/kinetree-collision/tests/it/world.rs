@@ -125,3 +125,78 @@ fn mismatched_data_and_bad_q_are_errors() {
         Err(CollisionError::DataMismatch { .. })
     ));
 }
+
+/// A scene file gives the same obstacles as adding them by hand: the capsule of
+/// `obstacles_collide_and_measure` read from JSON is 3.06 - 0.19 m from the base sphere.
+#[test]
+fn a_scene_file_adds_its_obstacles() {
+    use kinetree_collision::{ObstacleScene, SceneObstacle};
+    let scene = ObstacleScene::from_json_str(
+        r#"{"obstacles": [
+            {"name": "post", "geometry": {"type": "capsule", "radius": 0.1, "length": 1.0},
+             "xyz": [3.0, 0.0, 0.5]},
+            {"name": "shelf", "geometry": {"type": "box", "size": [0.2, 0.2, 0.2]},
+             "xyz": [0.0, 3.0, 0.5], "rpy": [0.0, 0.0, 0.5]}
+        ]}"#,
+    )
+    .unwrap();
+    assert_eq!(
+        scene.obstacles[0],
+        SceneObstacle {
+            name: "post".into(),
+            geometry: Geometry::Capsule {
+                radius: 0.1,
+                length: 1.0
+            },
+            xyz: [3.0, 0.0, 0.5],
+            rpy: [0.0; 3],
+        }
+    );
+    let yaw = scene.obstacles[1].placement().rotation * DVec3::X;
+    assert!((yaw - DVec3::new(0.5f64.cos(), 0.5f64.sin(), 0.0)).length() < 1e-15);
+    assert_eq!(
+        ObstacleScene::from_json_str(&scene.to_json_string()).unwrap(),
+        scene
+    );
+
+    let (reference, model) = panda();
+    let options = CollisionOptions::default();
+    let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+    let mut kinematics = KinematicsData::new(&model);
+    let mut data = CollisionData::new(&cmodel);
+    let q = q_of(&model, &reference["samples"][0]);
+    data.compute_placements(&model, &cmodel, &mut kinematics, &q)
+        .unwrap();
+    let ids = scene.add_to(&mut data, &options).unwrap();
+    assert_eq!(ids.len(), 2);
+    assert_eq!(data.obstacle(ids[1]).unwrap().name(), "shelf");
+    let base = cmodel.shape_index("panda_link0_1").unwrap();
+    let distances = compute_world_distances(&cmodel, &mut data).unwrap();
+    let d = distances
+        .iter()
+        .find(|p| p.a == base && p.b == ids[0].0)
+        .unwrap();
+    assert!((d.distance - (3.06 - 0.19)).abs() < 1e-9, "{d:?}");
+
+    for (text, line) in [
+        (
+            r#"{"obstacles": [{"name": "a", "geometry": {"type": "sphere", "radius": 1}, "colour": 1}]}"#,
+            1,
+        ),
+        (
+            "{\"obstacles\": [\n{\"geometry\": {\"type\": \"sphere\", \"radius\": 1}}]}",
+            2,
+        ),
+        ("{\"obstacles\": [", 1),
+    ] {
+        match ObstacleScene::from_json_str(text) {
+            Err(CollisionError::InvalidScene {
+                line: l, message, ..
+            }) => {
+                assert_eq!(l, line, "{message}");
+                assert!(message.contains(&format!("line {line}")), "{message}");
+            }
+            other => panic!("{text}: expected InvalidScene, got {other:?}"),
+        }
+    }
+}
