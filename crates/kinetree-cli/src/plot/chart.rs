@@ -1,6 +1,6 @@
-//! Minimal SVG line charts written by hand (no plotting dependency): axes with ticks, labels,
-//! a title and a legend.
+//! Line charts (`kinetree simulate --plot`): axes with ticks, labels, a title and a legend.
 
+use super::{decimals, tick_step};
 use std::fmt::Write;
 
 /// One named curve.
@@ -13,22 +13,6 @@ const PALETTE: [&str; 10] = [
     "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
     "#bcbd22", "#17becf",
 ];
-
-/// A "nice" tick step for a range: 1, 2 or 5 times a power of ten, about five ticks.
-fn tick_step(span: f64) -> f64 {
-    let raw = span / 5.0;
-    let p = 10f64.powf(raw.log10().floor());
-    let m = raw / p;
-    p * if m < 1.5 {
-        1.0
-    } else if m < 3.5 {
-        2.0
-    } else if m < 7.5 {
-        5.0
-    } else {
-        10.0
-    }
-}
 
 /// Appends one chart of size `w` x `h` at offset `(x0, y0)` to `svg`.
 pub(crate) fn chart(
@@ -74,12 +58,11 @@ pub(crate) fn chart(
         y0 + top
     );
     for (lo, hi, vertical) in [(xmin, xmax, true), (ymin, ymax, false)] {
-        let step = tick_step(hi - lo);
+        let step = tick_step(hi - lo, 6.0);
         let mut t = (lo / step).ceil() * step;
         while t <= hi + 1e-9 * step {
             // As many decimals as the tick step needs, so neighbouring labels differ.
-            let decimals = (-step.log10().floor()).max(0.0) as usize;
-            let label = format!("{:.*}", decimals, (t / step).round() * step);
+            let label = format!("{:.*}", decimals(step), (t / step).round() * step);
             if vertical {
                 let x = sx(t);
                 let _ = writeln!(
@@ -141,15 +124,4 @@ pub(crate) fn chart(
             s.name
         );
     }
-}
-
-/// A complete SVG document of `width` x `height` holding what `draw` appends.
-pub(crate) fn document(width: f64, height: f64, draw: impl FnOnce(&mut String)) -> String {
-    let mut svg = format!(
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif"><rect width="100%" height="100%" fill="white"/>"#
-    );
-    svg.push('\n');
-    draw(&mut svg);
-    svg.push_str("</svg>\n");
-    svg
 }
