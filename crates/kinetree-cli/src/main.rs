@@ -43,6 +43,8 @@ enum Command {
     Simulate(cmd::simulate::Args),
     /// Sample where a frame can reach: bounds, reach, volume, manipulability, files and a plot.
     Workspace(cmd::workspace::Args),
+    /// Write one frame's forward kinematics as Rust, C or Python (SymPy/CasADi) source.
+    Codegen(cmd::codegen::Args),
     // Later commands slot in here, one module each: dynamics, ik, workspace, collide, simulate.
 }
 
@@ -58,6 +60,7 @@ fn main() -> ExitCode {
         Command::Collide(args) => cmd::collide::run(&args),
         Command::Ik(args) => cmd::ik::run(&args),
         Command::Simulate(args) => cmd::simulate::run(&args),
+        Command::Codegen(args) => cmd::codegen::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

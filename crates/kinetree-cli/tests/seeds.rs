@@ -217,3 +217,61 @@ fn units_mm_deg_on_ik_dynamics_and_collide() {
     assert!(m.abs() > 1e-3, "{m}");
     assert!((mm - m * 1000.0).abs() < 1e-2, "{mm} vs {m}");
 }
+
+#[test]
+fn codegen_writes_python_that_agrees_with_compute() {
+    let source = temp("fk_tcp.py");
+    ok(&kinetree(&[
+        "codegen",
+        &panda(),
+        "--frame",
+        "panda_hand_tcp",
+        "--lang",
+        "python",
+        "--name",
+        "tcp",
+        "--out",
+        source.to_str().unwrap(),
+    ]));
+    let states = temp("codegen_states.json");
+    std::fs::write(
+        &states,
+        r#"{"samples": [{"q": {"panda_joint1": 0.3, "panda_joint2": -0.4, "panda_joint4": -1.2, "panda_joint6": 1.1}}]}"#,
+    )
+    .unwrap();
+    let computed: serde_json::Value = serde_json::from_str(&ok(&kinetree(&[
+        "compute",
+        &panda(),
+        "--states",
+        states.to_str().unwrap(),
+    ])))
+    .unwrap();
+    let pose = &computed["samples"][0]["link_poses"]["panda_hand_tcp"];
+    let script = format!(
+        "import runpy\nm = runpy.run_path({:?})\nfor row in m['tcp']([0.3, -0.4, 0.0, -1.2, 0.0, 1.1, 0.0, 0.0, 0.0]):\n    print(*row)\n",
+        source.display().to_string()
+    );
+    let out = Command::new("python3")
+        .args(["-c", &script])
+        .output()
+        .unwrap();
+    let text = ok(&out);
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 4, "{text}");
+    for i in 0..3 {
+        for j in 0..3 {
+            let r = pose["rotation"][i][j].as_f64().unwrap();
+            assert!((rows[i][j] - r).abs() < 1e-12, "R[{i}][{j}]: {text}");
+        }
+        let t = pose["translation"][i].as_f64().unwrap();
+        assert!((rows[i][3] - t).abs() < 1e-12, "t[{i}]: {text}");
+    }
+    assert_eq!(rows[3], [0.0, 0.0, 0.0, 1.0]);
+    // An unknown frame is an error naming it.
+    let e = kinetree(&["codegen", &panda(), "--frame", "nope", "--lang", "c"]);
+    assert!(!e.status.success());
+    assert!(String::from_utf8_lossy(&e.stderr).contains("nope"));
+}

@@ -13,7 +13,11 @@
 //! [`Chain`] (set joints by name, query any part's pose, with world transforms cached and
 //! recomputed only below a changed joint) and actuation groups ([`ActuationGroup`],
 //! [`ActuatedChain`]: actuated coordinates mapped to the virtual joints of a sub-chain, e.g. a
-//! linear actuator driving a knee).
+//! linear actuator driving a knee; [`ActuatedChain::solve_ik`] answers in actuated coordinates,
+//! [`ArgActuation`] takes arguments set at run time).
+//!
+//! [`codegen`] writes one frame's forward kinematics as straight-line Rust, C or Python (SymPy /
+//! CasADi) source.
 //!
 //! ```
 //! use kinetree_kinematics::{compute_frame_jacobian, configuration, forward_kinematics, FrameId,
@@ -52,6 +56,7 @@
 mod actuated_ik;
 mod chain;
 mod chain_datums;
+pub mod codegen;
 pub mod configuration;
 mod data;
 pub mod derivatives;

@@ -3,6 +3,7 @@
 mod actuated_ik;
 mod allocation;
 mod bad_input;
+mod codegen;
 mod common;
 mod dh;
 mod finite_differences;
