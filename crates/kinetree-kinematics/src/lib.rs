@@ -66,7 +66,6 @@ mod group;
 pub mod ik;
 mod jacobian;
 pub mod joint;
-pub mod lie_jacobians;
 
 pub use actuated_ik::{ActuatedIkReport, ActuationArgs, ArgActuation};
 pub use chain::{Chain, ChainStats};
@@ -91,6 +90,6 @@ pub use jacobian::{
     jacobian_to_rows,
 };
 pub use joint::JointModel;
+pub use joint::{difference_jacobians, integrate_jacobians};
 pub use kinetree_model as model;
 pub use kinetree_model::spatial;
-pub use lie_jacobians::{difference_jacobians, integrate_jacobians};

@@ -7,7 +7,9 @@
 //!   of a placed joint) and its factored form for composite inertias
 //!   ([`JointModel::placed_transform_factored`], [`JointRot`]).
 //! - `lie_group.rs`: each joint's configuration manifold: [`integrate_joint`],
-//!   [`difference_joint`], [`wrap_angle`], [`JointModel::dexp_inv`].
+//!   [`difference_joint`], [`wrap_angle`], [`JointModel::dexp_inv`], and the Jacobians of
+//!   integrate and difference in both arguments ([`integrate_jacobians`],
+//!   [`difference_jacobians`]).
 //!
 //! Forward kinematics, the Jacobians and the dynamics sweeps (RNEA, CRBA, ABA) all go through
 //! these kernels and the spatial ones of `kinetree-spatial`.
@@ -24,6 +26,8 @@ mod lie_group;
 mod model;
 mod transform;
 
-pub use lie_group::{difference_joint, integrate_joint, wrap_angle};
+pub use lie_group::{
+    difference_jacobians, difference_joint, integrate_jacobians, integrate_joint, wrap_angle,
+};
 pub use model::JointModel;
 pub use transform::{JointRot, sin_cos};
