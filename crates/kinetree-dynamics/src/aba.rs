@@ -97,21 +97,25 @@ pub(crate) fn compute(
     fext: Option<&ExternalForces>,
 ) -> Result<(), DynamicsError> {
     let bodies = model.bodies();
-    let joint_models = data.kinematics.joint_models();
     let nb = bodies.len();
     // Pass 1, root to leaves: placements, velocities, bias accelerations, rigid inertias and
-    // bias forces, all in the world frame.
+    // bias forces, all in the world frame. `q` and the placements go to the embedded kinematics
+    // data.
+    let kin = data.kinematics.body_buffers_mut();
+    kin.q.copy_from_slice(q);
+    let joint_models = kin.joint_models;
     for i in 1..nb {
         let b = &bodies[i];
         let jm = &joint_models[i];
         let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        kin.parent_from_body[i] = x;
         let p = b.parent;
         let world_from_body = if p == 0 {
             x
         } else {
-            data.world_from_body[p] * x
+            kin.world_from_body[p] * x
         };
-        data.world_from_body[i] = world_from_body;
+        kin.world_from_body[i] = world_from_body;
         let mut vj = Motion::ZERO;
         for k in 0..b.nv {
             let s = world_from_body.act_motion(&jm.subspace_column(k));
@@ -121,10 +125,10 @@ pub(crate) fn compute(
         let (vi, ci) = if p == 0 {
             (vj, Motion::ZERO)
         } else {
-            let vp = data.velocity[p];
+            let vp = data.world_velocity[p];
             (vp + vj, vp.cross_motion(&vj))
         };
-        data.velocity[i] = vi;
+        data.world_velocity[i] = vi;
         data.bias[i] = ci;
         let inertia = b.inertia.transformed(&world_from_body);
         data.articulated[i] = ArticulatedInertia::from_inertia(&inertia);
@@ -132,7 +136,9 @@ pub(crate) fn compute(
     }
     if let Some(fext) = fext {
         let force = &mut data.force;
-        fext.for_each_world(&data.world_from_body, |body, f| force[body] -= f);
+        fext.for_each_world(data.kinematics.world_from_body(), |body, f| {
+            force[body] -= f
+        });
     }
     // Pass 2, leaves to root: articulated inertias and bias forces.
     let mut singular: Vec<usize> = Vec::new();

@@ -63,16 +63,22 @@ pub fn crba<'d>(
 /// axis-aligned joints and placements).
 pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
     let bodies = model.bodies();
-    let joint_models = data.kinematics.joint_models();
     let nv = data.nv;
+    let kin = data.kinematics.body_buffers_mut();
+    kin.q.copy_from_slice(q);
+    let joint_models = kin.joint_models;
     for i in 1..bodies.len() {
         let b = &bodies[i];
         let (x, jr) =
             joint_models[i].placed_transform_factored(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
-        data.parent_from_body[i] = x;
+        kin.parent_from_body[i] = x;
         data.joint_rot[i] = jr;
         data.composite[i] = data.body_inertia[i];
     }
+    let (joint_models, parent_from_body) = (
+        data.kinematics.joint_models(),
+        data.kinematics.parent_from_body(),
+    );
     let m = &mut data.mass_matrix;
     let mut f = [Force::ZERO; 6];
     let mut col = [0.0; 6];
@@ -110,7 +116,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                 if p == 0 {
                     break;
                 }
-                fk = data.parent_from_body[j].act_force(&fk);
+                fk = parent_from_body[j].act_force(&fk);
                 j = p;
                 let jv = bodies[j].idx_v;
                 match joint_models[j].project_axis(&fk) {
@@ -136,7 +142,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                     break;
                 }
                 for fk in f[..ni].iter_mut() {
-                    *fk = data.parent_from_body[j].act_force(fk);
+                    *fk = parent_from_body[j].act_force(fk);
                 }
                 j = p;
                 let (jv, nj) = (bodies[j].idx_v, bodies[j].nv);
@@ -154,7 +160,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                 &ic,
                 data.joint_rot[i],
                 &data.placement_rot[i],
-                &data.parent_from_body[i],
+                &parent_from_body[i],
             );
             data.composite[b.parent].add_assign(&moved);
         }

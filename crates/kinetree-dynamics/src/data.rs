@@ -6,7 +6,7 @@ use kinetree_kinematics::KinematicsData;
 use kinetree_kinematics::joint::JointRot;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::{Force, Motion, OriginInertia, RotationForm, Se3};
+use kinetree_kinematics::spatial::{Force, Motion, OriginInertia, RotationForm};
 
 /// Marks "no parent" in the degree-of-freedom parent array.
 pub(crate) const NO_PARENT: usize = usize::MAX;
@@ -77,9 +77,10 @@ pub struct DynamicsData {
     /// Parent degree of freedom (Featherstone's λ for the mass matrix sparsity), or `NO_PARENT`.
     pub(crate) dof_parent: Vec<usize>,
     // Per body.
-    pub(crate) parent_from_body: Vec<Se3>,
-    pub(crate) world_from_body: Vec<Se3>,
-    pub(crate) velocity: Vec<Motion>,
+    // Placements and body velocities live in `kinematics`. ABA's world-frame velocities and the
+    // spatial accelerations of RNEA (body frame) and ABA (world frame), which include gravity
+    // (Pinocchio's `a_gf`), are quantities of their own.
+    pub(crate) world_velocity: Vec<Motion>,
     pub(crate) acceleration: Vec<Motion>,
     pub(crate) force: Vec<Force>,
     pub(crate) composite: Vec<OriginInertia>,
@@ -179,9 +180,7 @@ impl DynamicsData {
             friction: vec![0.0; nv],
             dof_body,
             dof_parent,
-            parent_from_body: vec![Se3::IDENTITY; nb],
-            world_from_body: vec![Se3::IDENTITY; nb],
-            velocity: vec![Motion::ZERO; nb],
+            world_velocity: vec![Motion::ZERO; nb],
             acceleration: vec![Motion::ZERO; nb],
             force: vec![Force::ZERO; nb],
             composite: vec![OriginInertia::ZERO; nb],
@@ -297,10 +296,21 @@ impl DynamicsData {
         Ok(())
     }
 
-    /// The kinematics buffers. The centre-of-mass, energy and momentum functions run forward
-    /// kinematics here, so after them it holds the placements (and velocities) of that call;
-    /// [`rnea`](crate::rnea), [`crba`](crate::crba) and [`aba`](crate::aba) use their own
-    /// buffers and leave it untouched.
+    /// The kinematics buffers: the one home of the configuration, placements and velocities the
+    /// dynamics sweeps compute (as Pinocchio's single `Data`).
+    /// - [`rnea`](crate::rnea), [`nonlinear_effects`](crate::nonlinear_effects),
+    ///   [`generalized_gravity`](crate::generalized_gravity), [`crba`](crate::crba),
+    ///   [`aba`](crate::aba) and the functions built on them leave their `q` and each body's
+    ///   [`parent_from_body`](KinematicsData::parent_from_body);
+    ///   [`update_world_placements`](kinetree_kinematics::update_world_placements) turns these
+    ///   into the world placements of every body and link (what forward kinematics would give,
+    ///   without its trigonometry). The sweeps do not do it themselves: it would cost RNEA and
+    ///   CRBA 5–30 %.
+    /// - The RNEA family also leaves the body velocities of
+    ///   [`forward_kinematics_with_velocity`](kinetree_kinematics::forward_kinematics_with_velocity)
+    ///   (zero where the function takes no `v`); [`aba`](crate::aba) leaves the world placements
+    ///   of the bodies (not yet of the links).
+    /// - The centre-of-mass, energy and momentum functions run forward kinematics here.
     #[inline]
     #[must_use]
     pub fn kinematics(&self) -> &KinematicsData {
@@ -393,11 +403,12 @@ impl DynamicsData {
     }
 
     /// Spatial velocity of each body in its own frame after [`rnea`](crate::rnea) (index 0 is
-    /// the world).
+    /// the world): the embedded kinematics data's
+    /// [`body_velocity`](KinematicsData::body_velocity).
     #[inline]
     #[must_use]
     pub fn body_velocity(&self) -> &[Motion] {
-        &self.velocity
+        self.kinematics.body_velocity()
     }
 
     /// Spatial force each body exerts on its subtree through its joint, in the body's frame,

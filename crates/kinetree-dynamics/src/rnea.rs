@@ -160,6 +160,11 @@ pub(crate) fn check_inputs(
 }
 
 /// The RNEA sweeps. `VEL`: `v` is used (else zero); `ACC`: `a` is used (else zero).
+///
+/// `q`, the local placements and the body velocities go to the embedded
+/// [`KinematicsData`](kinetree_kinematics::KinematicsData), as forward kinematics would write
+/// them (the world placements only when an external wrench needs them); the accelerations carry
+/// gravity (the root accelerates by `-g`, Pinocchio's `a_gf`) and stay in [`DynamicsData`].
 pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
     model: &Model,
     data: &mut DynamicsData,
@@ -170,25 +175,27 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
     output: Output,
 ) {
     let bodies = model.bodies();
-    let joint_models = data.kinematics.joint_models();
     let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
     let world = fext.is_some_and(ExternalForces::needs_world);
+    let kin = data.kinematics.body_buffers_mut();
+    kin.q.copy_from_slice(q);
+    let joint_models = kin.joint_models;
     for i in 1..bodies.len() {
         let b = &bodies[i];
         let jm = &joint_models[i];
         let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
-        data.parent_from_body[i] = x;
+        kin.parent_from_body[i] = x;
         let p = b.parent;
         if world {
-            data.world_from_body[i] = if p == 0 {
+            kin.world_from_body[i] = if p == 0 {
                 x
             } else {
-                data.world_from_body[p] * x
+                kin.world_from_body[p] * x
             };
         }
         let parent_a = if p == 0 { a0 } else { data.acceleration[p] };
         let parent_v = if VEL && p != 0 {
-            data.velocity[p]
+            kin.body_velocity[p]
         } else {
             Motion::ZERO
         };
@@ -235,21 +242,27 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
         let inertia = &b.inertia;
         let mut f = inertia.mul_motion(&ai);
         if VEL {
-            data.velocity[i] = vi;
             f += vi.cross_force(&inertia.mul_motion(&vi));
         }
+        kin.body_velocity[i] = vi;
         data.acceleration[i] = ai;
         data.force[i] = f;
     }
     if let Some(fext) = fext {
         let force = &mut data.force;
-        fext.for_each_local(&data.world_from_body, |body, f| force[body] -= f);
+        fext.for_each_local(data.kinematics.world_from_body(), |body, f| {
+            force[body] -= f
+        });
     }
     let out = match output {
         Output::Tau => &mut data.tau,
         Output::Nle => &mut data.nle,
         Output::Gravity => &mut data.gravity_torque,
     };
+    let (joint_models, parent_from_body) = (
+        data.kinematics.joint_models(),
+        data.kinematics.parent_from_body(),
+    );
     for i in (1..bodies.len()).rev() {
         let b = &bodies[i];
         let fi = data.force[i];
@@ -259,7 +272,7 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
             None => jm.project_force(&fi, &mut out[b.idx_v..b.idx_v + b.nv]),
         }
         if b.parent != 0 {
-            let fp = data.parent_from_body[i].act_force(&fi);
+            let fp = parent_from_body[i].act_force(&fi);
             data.force[b.parent] += fp;
         }
     }

@@ -126,6 +126,27 @@ pub struct KinematicsData {
     pub(crate) q: Vec<f64>,
 }
 
+/// Mutable views of the per-body buffers of a [`KinematicsData`], for the sweeps of the layers
+/// above (the dynamics algorithms) that compute the same quantities as forward kinematics and
+/// store them here, so that one `KinematicsData` is the one source of placements and velocities.
+/// A sweep that writes `q` writes `parent_from_body` for it too;
+/// [`update_world_placements`](crate::update_world_placements) completes the world placements
+/// from them.
+#[derive(Debug)]
+#[non_exhaustive]
+pub struct BodyBuffers<'a> {
+    /// The specialised joint model of each body (read only).
+    pub joint_models: &'a [JointModel],
+    /// The configuration of the last sweep.
+    pub q: &'a mut [f64],
+    /// `parent_from_body` of each body.
+    pub parent_from_body: &'a mut [Se3],
+    /// `world_from_body` of each body.
+    pub world_from_body: &'a mut [Se3],
+    /// Spatial velocity of each body in its own frame.
+    pub body_velocity: &'a mut [Motion],
+}
+
 impl KinematicsData {
     /// Allocates every buffer for `model`. Placements start at the model's zero configuration
     /// only after a forward kinematics call.
@@ -180,6 +201,20 @@ impl KinematicsData {
             });
         }
         Ok(())
+    }
+
+    /// Mutable views of the per-body buffers (see [`BodyBuffers`]), for the sweeps of the layers
+    /// above that store their placements and velocities here.
+    #[inline]
+    #[must_use]
+    pub fn body_buffers_mut(&mut self) -> BodyBuffers<'_> {
+        BodyBuffers {
+            joint_models: &self.joint_models,
+            q: &mut self.q,
+            parent_from_body: &mut self.parent_from_body,
+            world_from_body: &mut self.world_from_body,
+            body_velocity: &mut self.body_velocity,
+        }
     }
 
     /// The specialised joint model of each body (index 0 is the world).

@@ -131,6 +131,34 @@ fn link_placements(model: &Model, data: &mut KinematicsData) {
     }
 }
 
+/// Recomputes the world placement of every body and link ([`KinematicsData::world_from_body`],
+/// [`KinematicsData::world_from_link`]) from the stored
+/// [`parent_from_body`](KinematicsData::parent_from_body): what is left of forward kinematics
+/// after a sweep that stored the local placements only (the dynamics algorithms: RNEA, CRBA and
+/// ABA leave their configuration's `parent_from_body` in the kinematics data they embed).
+/// No trigonometry; allocates nothing.
+///
+/// # Errors
+/// [`KinematicsError::DataMismatch`] when `data` belongs to another model.
+pub fn update_world_placements(
+    model: &Model,
+    data: &mut KinematicsData,
+) -> Result<(), KinematicsError> {
+    data.check_model(model)?;
+    let bodies = model.bodies();
+    for i in 1..bodies.len() {
+        let p = bodies[i].parent;
+        let local = data.parent_from_body[i];
+        data.world_from_body[i] = if p == 0 {
+            local
+        } else {
+            data.world_from_body[p] * local
+        };
+    }
+    link_placements(model, data);
+    Ok(())
+}
+
 /// Updates the world placement of every named frame from the last forward kinematics
 /// ([`KinematicsData::world_from_frame`]). Allocates nothing.
 ///

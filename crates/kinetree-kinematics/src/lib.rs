@@ -69,7 +69,7 @@ pub mod joint;
 
 pub use actuated_ik::{ActuatedIkReport, ActuationArgs, ArgActuation};
 pub use chain::{Chain, ChainStats};
-pub use data::{FrameId, KinematicsData};
+pub use data::{BodyBuffers, FrameId, KinematicsData};
 pub use derivatives::{
     KinematicsDerivativesData, frame_acceleration_derivatives, frame_jacobian_derivatives,
     frame_velocity_derivatives,
@@ -78,7 +78,7 @@ pub use error::GroupProblem;
 pub use error::{KinematicsError, QUATERNION_NORM_TOLERANCE};
 pub use forward::{
     forward_kinematics, forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
-    frame_velocity, relative_transform, update_frame_placements,
+    frame_velocity, relative_transform, update_frame_placements, update_world_placements,
 };
 pub use group::{
     ActuatedChain, Actuation, ActuationGroup, FnActuation, GroupSpec, LinearActuator,

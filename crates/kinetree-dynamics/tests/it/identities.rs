@@ -3,11 +3,14 @@
 
 use crate::common::{all_models, mat_vec, random_state, relative_error, rng};
 use kinetree_dynamics::kinematics::configuration::integrate;
-use kinetree_dynamics::kinematics::{KinematicsData, compute_joint_jacobians, frame_jacobian};
+use kinetree_dynamics::kinematics::{
+    KinematicsData, compute_joint_jacobians, forward_kinematics_with_velocity, frame_jacobian,
+    update_world_placements,
+};
 use kinetree_dynamics::model::Model;
 use kinetree_dynamics::spatial::Force;
-use kinetree_dynamics::spatial::Motion;
 use kinetree_dynamics::spatial::glam::DVec3;
+use kinetree_dynamics::spatial::{Motion, Se3};
 use kinetree_dynamics::{
     DynamicsData, ExternalForces, FrameId, JointTerms, ReferenceFrame, aba,
     aba_with_external_forces, center_of_mass, center_of_mass_jacobian, center_of_mass_velocity,
@@ -308,6 +311,133 @@ fn com_quantities_agree() {
             );
             let h = centroidal_momentum(&model, &mut data, &q, &v).unwrap();
             assert!((h.linear - vcom * mass).length() < 1e-12 * (1.0 + h.linear.length()));
+        }
+    }
+}
+
+/// Largest entry of `a - b` over the rotation and translation.
+fn se3_gap(a: &Se3, b: &Se3) -> f64 {
+    let r = (a.rotation - b.rotation).to_cols_array();
+    let t = (a.translation - b.translation).to_array();
+    r.iter().chain(&t).fold(0.0, |m, x| m.max(x.abs()))
+}
+
+/// Largest entry of `a - b`.
+fn motion_gap(a: &Motion, b: &Motion) -> f64 {
+    (a.linear - b.linear)
+        .abs()
+        .max_element()
+        .max((a.angular - b.angular).abs().max_element())
+}
+
+/// Asserts that `got` holds forward kinematics' `q`, local placements and (after
+/// `update_world_placements`) world placements of every body and link, as `fk` does.
+fn assert_same_placements(
+    name: &str,
+    what: &str,
+    model: &Model,
+    got: &mut KinematicsData,
+    fk: &KinematicsData,
+) {
+    assert_eq!(got.q(), fk.q(), "{name} {what}: q");
+    let pairs = [(
+        "parent_from_body",
+        got.parent_from_body(),
+        fk.parent_from_body(),
+    )];
+    for (field, a, b) in pairs {
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            let e = se3_gap(x, y);
+            assert!(e < 1e-12, "{name} {what}: {field}[{i}] differs by {e:e}");
+        }
+    }
+    update_world_placements(model, got).unwrap();
+    for (field, a, b) in [
+        (
+            "world_from_body",
+            got.world_from_body(),
+            fk.world_from_body(),
+        ),
+        (
+            "world_from_link",
+            got.world_from_link(),
+            fk.world_from_link(),
+        ),
+    ] {
+        assert_eq!(a.len(), b.len());
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            let e = se3_gap(x, y);
+            assert!(e < 1e-12, "{name} {what}: {field}[{i}] differs by {e:e}");
+        }
+    }
+}
+
+#[test]
+fn dynamics_sweeps_leave_the_placements_and_velocities_of_forward_kinematics() {
+    for (name, model) in all_models() {
+        let mut data = DynamicsData::new(&model);
+        let mut fk = KinematicsData::new(&model);
+        let mut r = rng(7);
+        for _ in 0..5 {
+            // RNEA: q, placements and body velocities.
+            let (q, v, a) = random_state(&model, &mut r);
+            rnea(&model, &mut data, &q, &v, &a).unwrap();
+            forward_kinematics_with_velocity(&model, &mut fk, &q, &v).unwrap();
+            for (i, (x, y)) in data
+                .kinematics()
+                .body_velocity()
+                .iter()
+                .zip(fk.body_velocity())
+                .enumerate()
+            {
+                let e = motion_gap(x, y);
+                assert!(
+                    e < 1e-12,
+                    "{name} rnea: body_velocity[{i}] differs by {e:e}"
+                );
+            }
+            assert_same_placements(&name, "rnea", &model, data.kinematics_mut(), &fk);
+            // Gravity alone: the velocities are zero.
+            let (q, _, _) = random_state(&model, &mut r);
+            generalized_gravity(&model, &mut data, &q).unwrap();
+            assert!(
+                data.kinematics()
+                    .body_velocity()
+                    .iter()
+                    .all(|m| *m == Motion::ZERO),
+                "{name} gravity: body velocities"
+            );
+            forward_kinematics_with_velocity(&model, &mut fk, &q, &vec![0.0; model.nv()]).unwrap();
+            assert_same_placements(
+                &name,
+                "generalized_gravity",
+                &model,
+                data.kinematics_mut(),
+                &fk,
+            );
+            // ABA: q and placements; the bodies' world placements before any update.
+            let (q, v, tau) = random_state(&model, &mut r);
+            aba(&model, &mut data, &q, &v, &tau).unwrap();
+            forward_kinematics_with_velocity(&model, &mut fk, &q, &v).unwrap();
+            for (i, (x, y)) in data
+                .kinematics()
+                .world_from_body()
+                .iter()
+                .zip(fk.world_from_body())
+                .enumerate()
+            {
+                let e = se3_gap(x, y);
+                assert!(
+                    e < 1e-12,
+                    "{name} aba: world_from_body[{i}] differs by {e:e}"
+                );
+            }
+            assert_same_placements(&name, "aba", &model, data.kinematics_mut(), &fk);
+            // CRBA: q and placements.
+            let (q, _, _) = random_state(&model, &mut r);
+            crba(&model, &mut data, &q).unwrap();
+            forward_kinematics_with_velocity(&model, &mut fk, &q, &vec![0.0; model.nv()]).unwrap();
+            assert_same_placements(&name, "crba", &model, data.kinematics_mut(), &fk);
         }
     }
 }

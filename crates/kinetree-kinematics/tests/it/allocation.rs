@@ -12,7 +12,7 @@ use kinetree_kinematics::{
     FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, compute_joint_jacobians,
     compute_joint_jacobians_time_variation, configuration, forward_kinematics,
     forward_kinematics_with_acceleration, frame_jacobian, frame_jacobian_time_variation,
-    update_frame_placements,
+    update_frame_placements, update_world_placements,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -63,6 +63,7 @@ fn hot_paths_do_not_allocate() {
             for _ in 0..3 {
                 forward_kinematics(&model, &mut data, &q).unwrap();
                 update_frame_placements(&model, &mut data).unwrap();
+                update_world_placements(&model, &mut data).unwrap();
                 forward_kinematics_with_acceleration(&model, &mut data, &q, &v, &a).unwrap();
                 compute_joint_jacobians(&model, &mut data, &q).unwrap();
                 frame_jacobian(
