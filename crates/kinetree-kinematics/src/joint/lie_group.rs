@@ -313,7 +313,13 @@ fn check_out(what: &'static str, m: &[f64], nv: usize) -> Result<(), KinematicsE
 
 /// The Jacobians of `q ⊕ v` ([`integrate`](crate::configuration::integrate)) with respect to
 /// `q` (into `d_dq`) and to `v` (into `d_dv`), each `nv x nv`, row-major, block-diagonal, in the
-/// tangent space at `q ⊕ v` (see the [module documentation](self)). Allocates nothing.
+/// tangent space at `q ⊕ v`. Allocates nothing.
+///
+/// Column `k` of `∂f/∂q` is `d f(q ⊕ ε·e_k)/dε` at 0, and the configuration-valued result is
+/// differentiated in the tangent space at the result. The blocks of the vector-space joints
+/// (revolute, prismatic, continuous, cylindrical) are `±1`; for the Lie groups (spherical SO(3),
+/// planar SE(2), floating SE(3), velocities in the child frame) `∂(q ⊕ v)/∂q = Ad(exp v)⁻¹` and
+/// `∂(q ⊕ v)/∂v = J_r(v)`, the right Jacobian of `exp`.
 ///
 /// # Errors
 /// Length or finiteness errors for `q`, `v` and the outputs.
@@ -364,7 +370,8 @@ pub fn integrate_jacobians(
 
 /// The Jacobians of `q₁ ⊖ q₀` ([`difference`](crate::configuration::difference)) with respect to
 /// `q₀` (into `d_dq0`) and to `q₁` (into `d_dq1`), each `nv x nv`, row-major, block-diagonal
-/// (see the [module documentation](self)). Allocates nothing.
+/// (conventions as [`integrate_jacobians`]: `∂(q₁ ⊖ q₀)/∂q₁ = J_r(d)⁻¹` and
+/// `∂(q₁ ⊖ q₀)/∂q₀ = -J_l(d)⁻¹` with `d = q₁ ⊖ q₀` on the Lie groups). Allocates nothing.
 ///
 /// # Errors
 /// Length or finiteness errors for `q0`, `q1` and the outputs.
