@@ -73,10 +73,7 @@ fn cell(root: &str) -> Model {
 }
 
 fn close(a: &[f64], b: &[f64], tol: f64, what: &str) {
-    assert_eq!(a.len(), b.len(), "{what}");
-    for (i, (x, y)) in a.iter().zip(b).enumerate() {
-        assert!((x - y).abs() < tol, "{what}[{i}]: {x} vs {y}");
-    }
+    kinetree_test_support::assert_close!(a, b, tol, 0.0, "{what}");
 }
 
 #[test]

@@ -12,7 +12,9 @@
 //! Dev-dependencies are exempt from the layer rule (a test may use a higher layer). Every internal
 //! dependency, in every table of every manifest, must be a workspace dependency
 //! (`kinetree-x.workspace = true`), and each internal entry of `[workspace.dependencies]` must have
-//! both a `path` and a `version` (so that the crates can be published).
+//! both a `path` and a `version` (so that the crates can be published), except
+//! `kinetree-test-support` (`publish = false`): it has a path and no version, so that publishing
+//! strips it, and may only be a dev-dependency.
 //!
 //! The manifests are read with a small line parser rather than a TOML crate: it only needs section
 //! headers, dependency names and the `workspace`/`path`/`version` keys, and it keeps xtask's
@@ -30,8 +32,12 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("kinetree-dynamics", &["kinetree-kinematics"]),
     ("kinetree-collision", &["kinetree-kinematics"]),
     ("kinetree-workspace", &["kinetree-kinematics"]),
+    (TEST_SUPPORT, &["kinetree-kinematics"]),
     ("kinetree-cli", &["kinetree"]),
 ];
+
+/// The unpublished crate of test helpers: a dev-dependency only, without a version.
+const TEST_SUPPORT: &str = "kinetree-test-support";
 
 /// Runs the check on the workspace and prints what it found.
 pub(crate) fn run(args: &[String]) -> Result<()> {
@@ -104,6 +110,12 @@ fn check_manifest(shown: &str, text: &str, allowed: Option<&[&str]>) -> Vec<Stri
                 dep.line, dep.table, dep.name, dep.name
             ));
         }
+        if dep.name == TEST_SUPPORT && matches!(dep.table, Table::Normal | Table::Build) {
+            problems.push(format!(
+                "{shown}:{}: {TEST_SUPPORT} is not published: it may only be a dev-dependency",
+                dep.line
+            ));
+        }
         if let Some(allowed) = allowed
             && matches!(dep.table, Table::Normal | Table::Build)
             && !allowed.contains(&dep.name.as_str())
@@ -129,12 +141,21 @@ fn check_workspace_table(manifest: &Manifest, shown: &str) -> Vec<String> {
         .deps
         .iter()
         .filter(|d| d.table == Table::Workspace && is_internal(&d.name))
-        .filter(|d| !(d.path && d.version))
-        .map(|d| {
-            format!(
-                "{shown}:{}: [workspace.dependencies] {} needs both `path` and `version`",
-                d.line, d.name
-            )
+        .filter_map(|d| {
+            if d.name == TEST_SUPPORT {
+                return (!d.path || d.version).then(|| {
+                    format!(
+                        "{shown}:{}: [workspace.dependencies] {} needs a `path` and no `version` (it is not published)",
+                        d.line, d.name
+                    )
+                });
+            }
+            (!(d.path && d.version)).then(|| {
+                format!(
+                    "{shown}:{}: [workspace.dependencies] {} needs both `path` and `version`",
+                    d.line, d.name
+                )
+            })
         })
         .collect()
 }
@@ -473,5 +494,25 @@ path = "../kinetree-spatial"
                 "Cargo.toml:2: [workspace.dependencies] kinetree-model needs both `path` and `version`"
             ]
         );
+    }
+
+    #[test]
+    fn test_support_is_a_versionless_dev_dependency_only() {
+        let m = parse(
+            "[workspace.dependencies]\nkinetree-test-support = { path = \"crates/kinetree-test-support\", version = \"0.1.0\" }\n",
+        );
+        assert_eq!(
+            check_workspace_table(&m, "Cargo.toml"),
+            [
+                "Cargo.toml:2: [workspace.dependencies] kinetree-test-support needs a `path` and no `version` (it is not published)"
+            ]
+        );
+        let text = "[package]\nname = \"kinetree-dynamics\"\n[dependencies]\n\
+                    kinetree-test-support.workspace = true\n\
+                    [dev-dependencies]\nkinetree-test-support.workspace = true\n";
+        let problems = check_manifest("d/Cargo.toml", text, Some(&["kinetree-kinematics"]));
+        assert_eq!(problems.len(), 2, "{problems:?}");
+        assert!(problems[0].contains("may only be a dev-dependency"));
+        assert!(problems[1].contains("may depend only on kinetree-kinematics"));
     }
 }

@@ -1,10 +1,5 @@
 //! The queries allocate nothing once the data exists: a counting global allocator for this test
-//! binary counts allocations made by the current thread.
-
-#![allow(
-    unsafe_code,
-    reason = "a counting global allocator has to implement GlobalAlloc"
-)]
+//! binary (`kinetree-test-support`) counts allocations made by the current thread.
 
 use crate::common::{panda, q_of};
 use kinetree_collision::kinematics::KinematicsData;
@@ -15,38 +10,10 @@ use kinetree_collision::{
     CollisionData, CollisionModel, CollisionOptions, any_collision, compute_distances,
     compute_self_collisions, compute_world_collisions, compute_world_distances,
 };
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-// SAFETY: delegates every call unchanged to the system allocator; it only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use kinetree_test_support::{CountingAllocator, allocations_during};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations_during(f: impl FnOnce()) -> usize {
-    let before = ALLOCATIONS.with(Cell::get);
-    f();
-    ALLOCATIONS.with(Cell::get) - before
-}
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn queries_do_not_allocate() {

@@ -1,13 +1,8 @@
 //! Shared helpers: the panda_collision reference and small inline robots.
 
-use kinetree_collision::kinematics::configuration::{Space, from_named};
 use kinetree_collision::kinematics::model::{Model, RootJoint};
+pub(crate) use kinetree_test_support::{data_dir, q_of};
 use serde_json::Value;
-use std::path::PathBuf;
-
-pub(crate) fn data_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/data")
-}
 
 /// The panda_collision reference JSON and its model.
 pub(crate) fn panda() -> (Value, Model) {
@@ -21,13 +16,6 @@ pub(crate) fn panda() -> (Value, Model) {
     )
     .unwrap();
     (reference, model)
-}
-
-/// Our `q` for a sample's `state.q` (keyed by joint name).
-pub(crate) fn q_of(model: &Model, sample: &Value) -> Vec<f64> {
-    let named = sample["state"]["q"].as_object().unwrap();
-    let values = named.iter().map(|(n, x)| (n, [x.as_f64().unwrap()]));
-    from_named(model, Space::Configuration, values, false).unwrap()
 }
 
 /// A robot from an inline URDF body (links and joints), fixed to the world.

@@ -1,10 +1,5 @@
 //! The hot paths allocate nothing once the data exists: a counting global allocator for this
-//! test binary counts allocations made by the current thread.
-
-#![allow(
-    unsafe_code,
-    reason = "a counting global allocator has to implement GlobalAlloc"
-)]
+//! test binary (`kinetree-test-support`) counts allocations made by the current thread.
 
 use crate::common::{all_models, random_state, rng};
 use kinetree_dynamics::spatial::Force;
@@ -16,34 +11,10 @@ use kinetree_dynamics::{
     mass_matrix_inverse, mechanical_energy, nonlinear_effects, potential_energy, rnea,
     rnea_with_external_forces, solve_mass_matrix, step, step_with_external_forces,
 };
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-// SAFETY: delegates every call unchanged to the system allocator; it only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
+use kinetree_test_support::{CountingAllocator, allocations_during};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations_during(f: impl FnOnce()) -> usize {
-    let before = ALLOCATIONS.with(Cell::get);
-    f();
-    ALLOCATIONS.with(Cell::get) - before
-}
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn hot_paths_do_not_allocate() {

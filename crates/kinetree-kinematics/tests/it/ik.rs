@@ -649,7 +649,7 @@ fn a_solve_allocates_nothing() {
         let far = vec![IkTarget::position(frames[0], DVec3::new(5.0, 0.0, 0.0))];
         cases.push((far, neutral_configuration(&model)));
         let mut restarts = 0;
-        let count = crate::allocation::allocations_during(|| {
+        let count = kinetree_test_support::allocations_during(|| {
             for (targets, q0) in &cases {
                 let report = solver
                     .solve_targets(&model, &mut data, targets, q0)
