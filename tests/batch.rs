@@ -115,3 +115,41 @@ fn sample_errors_name_the_sample_and_keep_the_layer_error() {
         other => panic!("expected a sample error, got {:?}", other.err()),
     }
 }
+
+#[test]
+fn named_frames_poses_are_reported_when_asked_for() {
+    use kinetree::batch::FrameSelection;
+    let model = samples::planar_2r(L1, L2);
+    let sample = SampleInput {
+        q: Some(named(&[("joint1", FRAC_PI_2), ("joint2", -FRAC_PI_2)])),
+        ..SampleInput::default()
+    };
+    // By default, links only.
+    let out = evaluate(&model, &[sample.clone()], &BatchOptions::default()).unwrap();
+    assert!(out.samples[0].frame_poses.is_empty());
+    // Every named frame: the tool at (l2, l1, 0), its x axis back along world x.
+    for frames in [
+        FrameSelection::All,
+        FrameSelection::Named(vec!["tool".into()]),
+    ] {
+        let options = BatchOptions {
+            frames,
+            ..BatchOptions::default()
+        };
+        let out = evaluate(&model, &[sample.clone()], &options).unwrap();
+        let poses = &out.samples[0].frame_poses;
+        assert_eq!(poses.keys().collect::<Vec<_>>(), ["tool"]);
+        let tool = poses["tool"];
+        for (got, want) in tool.translation.iter().zip([L2, L1, 0.0]) {
+            assert!((got - want).abs() < 1e-15, "{tool:?}");
+        }
+        assert!((tool.rotation[0][0] - 1.0).abs() < 1e-15, "{tool:?}");
+    }
+    // An unknown frame is an error naming it.
+    let options = BatchOptions {
+        frames: FrameSelection::Named(vec!["nope".into()]),
+        ..BatchOptions::default()
+    };
+    let e = evaluate(&model, &[sample], &options).unwrap_err();
+    assert!(e.to_string().contains("nope"), "{e}");
+}

@@ -17,8 +17,8 @@
 //!
 //! Response: `{"model": {"name", "nq", "nv", "joints": [{"name", "type", "idx_q", "idx_v", "nq",
 //! "nv"}]}, "samples": [{"link_poses": {link: {"translation": [3], "rotation": 3x3
-//! row-major}}, "jacobians": {link: 6 x nv, LocalWorldAligned, columns in the model's v order},
-//! …}]}`.
+//! row-major}}, "frame_poses": {frame: the same, for the frames asked for}, "jacobians": {link:
+//! 6 x nv, LocalWorldAligned, columns in the model's v order}, …}]}`.
 //!
 //! With the `dynamics` feature each sample also gets what its inputs allow: always
 //! `gravity_torque`, `mass_matrix` (nv x nv, row-major), `com`, `total_mass` (the moving
@@ -62,16 +62,31 @@ use crate::kinematics::configuration::{Space, from_named};
 use crate::kinematics::spatial::Motion;
 use crate::kinematics::{
     FrameId, KinematicsData, ReferenceFrame, compute_joint_jacobians, frame_jacobian,
-    jacobian_to_rows,
+    jacobian_to_rows, update_frame_placements,
 };
 use crate::model::Model;
 use std::collections::BTreeMap;
+
+/// Which named frames' world poses a sample reports (`frame_poses`), besides every link's.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum FrameSelection {
+    /// None (the default).
+    #[default]
+    None,
+    /// Every named frame of the model, keyed by its name (`link/frame` when two links have a
+    /// frame of the same name).
+    All,
+    /// These frames (or links), keyed as given (`name` or `part/name`).
+    Named(Vec<String>),
+}
 
 /// What to compute besides link poses.
 #[derive(Clone, Debug, Default)]
 pub struct BatchOptions {
     /// Links or frames whose LocalWorldAligned Jacobian is reported.
     pub jacobians: Vec<String>,
+    /// Named frames whose world pose is reported in `frame_poses`.
+    pub frames: FrameSelection,
     /// Skip the dynamics quantities even when the inputs allow them.
     pub no_dynamics: bool,
     /// Require a value for every moving joint in each given `q`, `v`, `a`, `tau` (and a `q` in
@@ -160,6 +175,32 @@ pub fn evaluate(
         .iter()
         .map(|n| FrameId::find(model, n))
         .collect::<Result<_, _>>()?;
+    let posed: Vec<(String, FrameId)> = match &options.frames {
+        FrameSelection::None => Vec::new(),
+        FrameSelection::All => model
+            .frames()
+            .iter()
+            .enumerate()
+            .map(|(f, frame)| {
+                let shared = model
+                    .frames()
+                    .iter()
+                    .filter(|o| o.name == frame.name)
+                    .count()
+                    > 1;
+                let key = if shared {
+                    format!("{}/{}", model.link(frame.link).name, frame.name)
+                } else {
+                    frame.name.clone()
+                };
+                (key, FrameId::Frame(f))
+            })
+            .collect(),
+        FrameSelection::Named(names) => names
+            .iter()
+            .map(|n| Ok((n.clone(), FrameId::find(model, n)?)))
+            .collect::<Result<_, Error>>()?,
+    };
     let mut data = KinematicsData::new(model);
     let mut jac = vec![Motion::ZERO; model.nv()];
     #[cfg_attr(
@@ -207,6 +248,20 @@ pub fn evaluate(
                 },
             );
         }
+        let mut frame_poses = BTreeMap::new();
+        if !posed.is_empty() {
+            update_frame_placements(model, &mut data)?;
+        }
+        for (name, frame) in &posed {
+            let p = data.world_from(*frame)?;
+            frame_poses.insert(
+                name.clone(),
+                Placement {
+                    translation: p.translation.to_array(),
+                    rotation: p.rotation_rows(),
+                },
+            );
+        }
         let mut jacobians = BTreeMap::new();
         for (name, frame) in options.jacobians.iter().zip(&frames) {
             let rf = ReferenceFrame::LocalWorldAligned;
@@ -241,6 +296,7 @@ pub fn evaluate(
         };
         out.push(SampleOutput {
             link_poses,
+            frame_poses,
             jacobians,
             #[cfg(feature = "collision")]
             collision,

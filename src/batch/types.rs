@@ -197,6 +197,10 @@ pub struct PairDistance {
 pub struct SampleOutput {
     /// World placement (`world_from_link`) of every link, by link name.
     pub link_poses: BTreeMap<String, Placement>,
+    /// World placement (`world_from_frame`) of each named frame asked for
+    /// ([`BatchOptions::frames`](crate::batch::BatchOptions::frames)), by name.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "BTreeMap::is_empty"))]
+    pub frame_poses: BTreeMap<String, Placement>,
     /// LocalWorldAligned Jacobian (6 x nv, rows `[linear; angular]`, columns in the model's `v`
     /// order) of each requested link or frame.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "BTreeMap::is_empty"))]

@@ -133,6 +133,7 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
         .unwrap_or_default();
     let options = BatchOptions {
         jacobians: jacobian_links.clone(),
+        frames: kinetree::batch::FrameSelection::None,
         no_dynamics: false,
         // The reference ignores URDF <dynamics> damping and friction, as Pinocchio does.
         joint_dynamics: false,

@@ -275,3 +275,102 @@ fn codegen_writes_python_that_agrees_with_compute() {
     assert!(!e.status.success());
     assert!(String::from_utf8_lossy(&e.stderr).contains("nope"));
 }
+
+#[test]
+fn compute_reports_named_frames_poses() {
+    let states = temp("frames_states.json");
+    std::fs::write(&states, r#"{"samples": [{"name": "home"}]}"#).unwrap();
+    let run = |frames: &str| -> serde_json::Value {
+        let text = ok(&kinetree(&[
+            "compute",
+            &yapcad("yap_arm.yapcad.json"),
+            "--states",
+            states.to_str().unwrap(),
+            "--frames",
+            frames,
+        ]));
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()["samples"][0]["frame_poses"]
+            .clone()
+    };
+    let all = run("all");
+    let names: Vec<&String> = all.as_object().unwrap().keys().collect();
+    assert_eq!(
+        names,
+        ["ELBOW", "MOUNT", "SHOULDER", "TOOL_FLANGE", "WRIST"],
+        "{all}"
+    );
+    // The base's MOUNT datum sits 40 mm above the base part's origin, which is on the world's.
+    let mount = &all["MOUNT"]["translation"];
+    for (k, want) in [0.0, 0.0, 0.04].into_iter().enumerate() {
+        assert!((mount[k].as_f64().unwrap() - want).abs() < 1e-12, "{all}");
+    }
+    // One frame asked for by name: the same pose, and only that one.
+    let one = run("SHOULDER");
+    assert_eq!(one.as_object().unwrap().len(), 1);
+    assert_eq!(one["SHOULDER"], all["SHOULDER"]);
+    // Not asked for: no frame_poses key at all.
+    let text = ok(&kinetree(&[
+        "compute",
+        &yapcad("yap_arm.yapcad.json"),
+        "--states",
+        states.to_str().unwrap(),
+    ]));
+    assert!(!text.contains("frame_poses"));
+}
+
+#[test]
+fn compute_takes_and_prints_millimetres_and_degrees() {
+    let si = temp("units_si.json");
+    let mm = temp("units_mm.json");
+    std::fs::write(
+        &si,
+        r#"{"samples": [{"q": {"panda_joint2": 0.5, "panda_joint4": -1.5, "panda_finger_joint1": 0.02}, "v": {"panda_joint1": 0.3}}]}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        &mm,
+        format!(
+            r#"{{"samples": [{{"q": {{"panda_joint2": {}, "panda_joint4": {}, "panda_finger_joint1": 20.0}}, "v": {{"panda_joint1": {}}}}}]}}"#,
+            0.5f64.to_degrees(),
+            (-1.5f64).to_degrees(),
+            0.3f64.to_degrees()
+        ),
+    )
+    .unwrap();
+    let run = |file: &PathBuf, units: &str| -> serde_json::Value {
+        let text = ok(&kinetree(&[
+            "compute",
+            &panda(),
+            "--states",
+            file.to_str().unwrap(),
+            "--units",
+            units,
+        ]));
+        serde_json::from_str(&text).unwrap()
+    };
+    let (a, b) = (run(&si, "si"), run(&mm, "mm-deg"));
+    assert_eq!(b["units"]["length"], "mm");
+    let (a, b) = (&a["samples"][0], &b["samples"][0]);
+    // The same state: translations a thousand times larger, rotations and energies equal.
+    for link in ["panda_hand_tcp", "panda_leftfinger"] {
+        for k in 0..3 {
+            let (x, y) = (
+                a["link_poses"][link]["translation"][k].as_f64().unwrap(),
+                b["link_poses"][link]["translation"][k].as_f64().unwrap(),
+            );
+            assert!((y - 1000.0 * x).abs() < 1e-9, "{link}: {x} vs {y}");
+            let (r, s) = (
+                a["link_poses"][link]["rotation"][k][0].as_f64().unwrap(),
+                b["link_poses"][link]["rotation"][k][0].as_f64().unwrap(),
+            );
+            assert!((r - s).abs() < 1e-12);
+        }
+    }
+    let (ka, kb) = (
+        a["kinetic_energy"].as_f64().unwrap(),
+        b["kinetic_energy"].as_f64().unwrap(),
+    );
+    assert!(ka > 0.0 && (ka - kb).abs() < 1e-12, "{ka} vs {kb}");
+    let (ca, cb) = (a["com"][2].as_f64().unwrap(), b["com"][2].as_f64().unwrap());
+    assert!((cb - 1000.0 * ca).abs() < 1e-9);
+}

@@ -4,7 +4,10 @@
 //! inputs allow.
 
 use anyhow::{Context, Result};
-use kinetree::batch::{BatchOptions, SampleInput, evaluate};
+use kinetree::batch::{
+    BatchOptions, FrameSelection, JointValue, NamedValues, SampleInput, evaluate,
+};
+use kinetree::model::Model;
 use serde::Deserialize;
 use serde_json::Value;
 use std::path::PathBuf;
@@ -19,6 +22,7 @@ Output: {\"model\": {name, nq, nv, joints: [{name, type, idx_q, idx_v, nq, nv}]}
 with, per sample (vectors in the model's v order, matrices row-major):
   name               the sample's name, when it has one
   link_poses         every link: translation [3] (m), rotation 3x3 (world frame)
+  frame_poses        with --frames: the named frames' poses, the same way
   jacobians          each --jacobians link or frame: 6 x nv, LocalWorldAligned, [linear; angular]
   gravity_torque     g(q) (N·m or N)
   mass_matrix        M(q), nv x nv
@@ -32,6 +36,7 @@ with, per sample (vectors in the model's v order, matrices row-major):
   aba                with v and tau: q̈ = M⁻¹·(τ - C·v - g), null when M is singular
   by_joint           gravity_torque, nle, rnea, aba again, keyed by joint name
   errors             why a quantity is null
+  units              with --units mm-deg: {\"length\": \"mm\", \"angle\": \"deg\"}; translations and com in mm
   collision          with --collision: [{link_a, link_b, distance}] per candidate pair (m; < 0 = penetration)
 Dynamics are rigid-body (as Pinocchio's) unless --joint-dynamics adds the URDF's damping,
 friction and armature.";
@@ -48,6 +53,10 @@ pub(crate) struct Args {
     /// (a reference file's samples, which wrap these maps in "state", work too).
     #[arg(long)]
     states: PathBuf,
+    /// Named frames (or links) whose world pose is reported in `frame_poses`, comma separated
+    /// (`part/frame` where two parts have a frame of that name), or `all` for every named frame.
+    #[arg(long, value_delimiter = ',')]
+    frames: Vec<String>,
     /// Links or frames whose LocalWorldAligned Jacobian (6 x nv) is reported, comma separated.
     #[arg(long, value_delimiter = ',')]
     jacobians: Vec<String>,
@@ -72,6 +81,10 @@ pub(crate) struct Args {
     /// Drop collision meshes that cannot be found or read (they are listed on stderr).
     #[arg(long)]
     skip_missing_meshes: bool,
+    /// Units of the samples' q, v and a, and of the printed positions (link and frame poses'
+    /// translations, com): `si` (m, rad) or `mm-deg`. Jacobians and the dynamics quantities stay SI.
+    #[arg(long, value_enum, default_value_t = super::UnitsArg::Si)]
+    units: super::UnitsArg,
     /// Write the result here instead of standard output.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -86,8 +99,27 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         .with_context(|| format!("cannot parse {} as JSON", args.states.display()))?;
     let (samples, names) = parse_request(&request)
         .with_context(|| format!("cannot read the samples of {}", args.states.display()))?;
+    let mut samples = samples;
+    if args.units != super::UnitsArg::Si {
+        for sample in &mut samples {
+            for (values, velocity) in [
+                (&mut sample.q, false),
+                (&mut sample.v, true),
+                (&mut sample.a, true),
+            ] {
+                if let Some(values) = values {
+                    named_to_si(&model, values, velocity, args.units);
+                }
+            }
+        }
+    }
     let options = BatchOptions {
         jacobians: args.jacobians.clone(),
+        frames: match args.frames.as_slice() {
+            [] => FrameSelection::None,
+            [all] if all == "all" => FrameSelection::All,
+            names => FrameSelection::Named(names.to_vec()),
+        },
         no_dynamics: false,
         strict: args.strict,
         joint_dynamics: args.joint_dynamics,
@@ -106,6 +138,9 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         eprintln!("skipped mesh: {skipped}");
     }
     let mut response = serde_json::to_value(&output)?;
+    if args.units != super::UnitsArg::Si {
+        positions_from_si(&mut response, args.units);
+    }
     // A sample's name (any JSON value) is copied to its result.
     for (out, name) in response["samples"]
         .as_array_mut()
@@ -125,6 +160,70 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         None => out!("{json}")?,
     }
     Ok(())
+}
+
+/// Converts the named joint values of `values` from `units` to SI, coordinate by coordinate
+/// (a cylindrical joint's slide and angle). Unknown joints and wrong value counts are left for
+/// the evaluation to report.
+fn named_to_si(model: &Model, values: &mut NamedValues, velocity: bool, units: super::UnitsArg) {
+    let units = units.units();
+    for (name, value) in values.iter_mut() {
+        let Some(j) = model.joint_index(name) else {
+            continue;
+        };
+        let kind = model.joint(j).kind;
+        let coords = if velocity {
+            kind.v_coordinates()
+        } else {
+            kind.q_coordinates()
+        };
+        match value {
+            JointValue::Scalar(x) if coords.len() == 1 => *x = coords[0].to_si(*x, units),
+            JointValue::Block(xs) if xs.len() == coords.len() => {
+                for (x, c) in xs.iter_mut().zip(coords) {
+                    *x = c.to_si(*x, units);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Scales the positions of a response (poses' translations, `com`) from metres to `units`, and
+/// says which units the response uses.
+fn positions_from_si(response: &mut Value, units: super::UnitsArg) {
+    let units = units.units();
+    let scale = units.length.per_meter();
+    let scale_all = |v: &mut Value| {
+        for x in v.as_array_mut().into_iter().flatten() {
+            if let Some(f) = x.as_f64() {
+                *x = Value::from(f * scale);
+            }
+        }
+    };
+    for sample in response["samples"].as_array_mut().into_iter().flatten() {
+        for key in ["link_poses", "frame_poses"] {
+            for pose in sample
+                .get_mut(key)
+                .and_then(Value::as_object_mut)
+                .into_iter()
+                .flat_map(|m| m.values_mut())
+            {
+                if let Some(t) = pose.get_mut("translation") {
+                    scale_all(t);
+                }
+            }
+        }
+        if let Some(com) = sample.get_mut("com") {
+            scale_all(com);
+        }
+    }
+    if let Some(obj) = response.as_object_mut() {
+        obj.insert(
+            "units".into(),
+            serde_json::json!({"length": units.length.as_str(), "angle": units.angle.as_str()}),
+        );
+    }
 }
 
 /// The samples of a request (`{"samples": [...]}`; a sample may wrap its maps in `"state"`, as a

@@ -35,7 +35,7 @@ pub(crate) struct Args {
     /// A grid of K values on each sampled joint coordinate instead (K^joints samples).
     #[arg(long, value_name = "K")]
     grid: Option<usize>,
-    /// Voxel size in metres for the reachable volume.
+    /// Voxel size for the reachable volume, in metres (or millimetres with `--units mm-deg`).
     #[arg(long, default_value_t = 0.02)]
     voxel: f64,
     /// Seed of the random samples (the same seed gives the same samples on any thread count).
@@ -45,9 +45,13 @@ pub(crate) struct Args {
     /// orientations in the output).
     #[arg(long, value_enum, default_value_t = Task::Position)]
     task: Task,
-    /// The point reach is measured from, `x,y,z` in metres.
+    /// The point reach is measured from, `x,y,z` in metres (or millimetres with `--units mm-deg`).
     #[arg(long, value_parser = parse_point, default_value = "0,0,0", allow_hyphen_values = true)]
     base: DVec3,
+    /// Units of `--voxel`, `--base` and the printed bounds, reach and volume: `si` (m) or `mm-deg`
+    /// (mm). Manipulability, the sample files and the plot stay in metres.
+    #[arg(long, value_enum, default_value_t = super::UnitsArg::Si)]
+    units: super::UnitsArg,
     /// Write the samples here: .ply (point cloud with a manipulability scalar), .csv or .json.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -137,9 +141,16 @@ fn check_limits(args: &Args) -> Result<()> {
 /// [`run`] with the summary written to `out`.
 fn report_to(args: &Args, out: &mut dyn std::io::Write) -> Result<()> {
     // Check what can be checked before sampling, which may take a while.
+    let length = args.units.units().length;
+    let scale = length.per_meter();
     if !(args.voxel.is_finite() && args.voxel > 0.0) {
-        bail!("--voxel {} is not a positive length in metres", args.voxel);
+        bail!(
+            "--voxel {} is not a positive length in {}",
+            args.voxel,
+            length.as_str()
+        );
     }
+    let (voxel, base) = (args.voxel / scale, args.base / scale);
     check_limits(args)?;
     let format = args.out.as_deref().map(format_of).transpose()?;
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
@@ -183,8 +194,8 @@ fn report_to(args: &Args, out: &mut dyn std::io::Write) -> Result<()> {
     bar.finish_and_clear();
     let set = set.with_context(|| format!("cannot sample the workspace of '{}'", args.frame))?;
     let seconds = start.elapsed().as_secs_f64();
-    let voxels = set.voxelize(args.voxel)?;
-    let reach = set.max_reach(args.base)?;
+    let voxels = set.voxelize(voxel)?;
+    let reach = set.max_reach(base)?;
     let file = args.model.file_name().map_or_else(
         || args.model.display().to_string(),
         |f| f.to_string_lossy().into_owned(),
@@ -194,10 +205,12 @@ fn report_to(args: &Args, out: &mut dyn std::io::Write) -> Result<()> {
         threads: pool.current_num_threads(),
         seconds,
         reach,
-        base: args.base,
-        voxel: args.voxel,
+        base,
+        voxel,
         voxels: voxels.len(),
         volume: voxels.volume(),
+        scale,
+        unit: length.as_str(),
     };
     say(out, &summary.report(&set))?;
     if let (Some(path), Some(format)) = (&args.out, format) {
@@ -244,6 +257,9 @@ struct Summary {
     voxel: f64,
     voxels: usize,
     volume: f64,
+    /// The printed lengths' unit per metre, and its name.
+    scale: f64,
+    unit: &'static str,
 }
 
 fn sampling_words(s: Sampling) -> String {
@@ -284,6 +300,7 @@ impl Summary {
     fn report(&self, set: &ReachableSet) -> String {
         let mut out = String::new();
         let b = set.bounds();
+        let (k, u) = (self.scale, self.unit);
         let (lo, mean, hi) = manipulability_range(set);
         let _ = writeln!(out, "frame        {} ({})", set.frame_name(), self.file);
         let _ = writeln!(
@@ -306,17 +323,22 @@ impl Summary {
             ("y", b.min.y, b.max.y),
             ("z", b.min.z, b.max.z),
         ] {
-            let _ = writeln!(out, "bounds {axis}     [{lo:.4}, {hi:.4}] m");
+            let _ = writeln!(out, "bounds {axis}     [{:.4}, {:.4}] {u}", lo * k, hi * k);
         }
         let _ = writeln!(
             out,
-            "max reach    {:.4} m from ({}, {}, {})",
-            self.reach, self.base.x, self.base.y, self.base.z
+            "max reach    {:.4} {u} from ({}, {}, {})",
+            self.reach * k,
+            self.base.x * k,
+            self.base.y * k,
+            self.base.z * k
         );
         let _ = writeln!(
             out,
-            "voxels       {} of {} m hit: {:.4} m³ (a lower bound, growing with the samples)",
-            self.voxels, self.voxel, self.volume
+            "voxels       {} of {} {u} hit: {:.4} {u}³ (a lower bound, growing with the samples)",
+            self.voxels,
+            self.voxel * k,
+            self.volume * k * k * k
         );
         let _ = writeln!(
             out,
@@ -418,6 +440,41 @@ mod tests {
     }
 
     #[test]
+    fn millimetre_arguments_give_the_same_workspace() {
+        let report = |words: &[&str]| {
+            let mut out = Vec::new();
+            report_to(&args(words).unwrap(), &mut out).unwrap();
+            String::from_utf8(out).unwrap()
+        };
+        let line = |text: &str, key: &str| -> Vec<f64> {
+            text.lines()
+                .find(|l| l.starts_with(key))
+                .unwrap_or_else(|| panic!("no {key} in {text}"))
+                .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+                .filter_map(|x| x.parse().ok())
+                .collect()
+        };
+        let common = ["--frame", "panda_hand_tcp", "--grid", "3", "--threads", "1"];
+        let m = report(&[&common[..], &["--voxel", "0.05", "--base", "0,0,0.333"]].concat());
+        let mm = report(
+            &[
+                &common[..],
+                &["--voxel", "50", "--base", "0,0,333", "--units", "mm-deg"],
+            ]
+            .concat(),
+        );
+        let (rm, rmm) = (line(&m, "max reach"), line(&mm, "max reach"));
+        assert!((rmm[0] - 1000.0 * rm[0]).abs() < 0.1, "{m}\n{mm}");
+        assert_eq!(&rmm[1..], [0.0, 0.0, 333.0]);
+        // The same voxels are hit.
+        assert_eq!(line(&m, "voxels")[0], line(&mm, "voxels")[0]);
+        assert!(
+            line(&mm, "bounds z").len() == 2 && mm.contains("] mm"),
+            "{mm}"
+        );
+    }
+
+    #[test]
     fn formats_follow_the_extension() {
         assert_eq!(format_of(Path::new("a/ws.PLY")).unwrap(), Format::Ply);
         assert_eq!(format_of(Path::new("ws.csv")).unwrap(), Format::Csv);
@@ -440,9 +497,32 @@ mod tests {
             voxel: 0.02,
             voxels: 10,
             volume: 0.001,
+            scale: 1.0,
+            unit: "m",
         };
         let report = summary.report(&set);
         assert!(report.contains("max reach    1.5000 m"), "{report}");
+        // In millimetres: the same numbers scaled, the volume by a thousand cubed.
+        let mm = Summary {
+            scale: 1000.0,
+            unit: "mm",
+            ..summary
+        };
+        let report = mm.report(&set);
+        assert!(report.contains("max reach    1500.0000 mm"), "{report}");
+        assert!(
+            report.contains("10 of 20 mm hit: 1000000.0000 mm³"),
+            "{report}"
+        );
+        assert!(
+            report.contains("bounds x     [-1500.0000, 1500.0000] mm"),
+            "{report}"
+        );
+        let summary = Summary {
+            scale: 1.0,
+            unit: "m",
+            ..mm
+        };
         let caption = summary.caption();
         assert_eq!(caption.file, "planar <2r>.urdf");
         assert!((caption.reach - 1.5).abs() < 1e-9, "{}", caption.reach);
