@@ -125,7 +125,12 @@ fn named_frames_poses_are_reported_when_asked_for() {
         ..SampleInput::default()
     };
     // By default, links only.
-    let out = evaluate(&model, &[sample.clone()], &BatchOptions::default()).unwrap();
+    let out = evaluate(
+        &model,
+        std::slice::from_ref(&sample),
+        &BatchOptions::default(),
+    )
+    .unwrap();
     assert!(out.samples[0].frame_poses.is_empty());
     // Every named frame: the tool at (l2, l1, 0), its x axis back along world x.
     for frames in [
@@ -136,7 +141,7 @@ fn named_frames_poses_are_reported_when_asked_for() {
             frames,
             ..BatchOptions::default()
         };
-        let out = evaluate(&model, &[sample.clone()], &options).unwrap();
+        let out = evaluate(&model, std::slice::from_ref(&sample), &options).unwrap();
         let poses = &out.samples[0].frame_poses;
         assert_eq!(poses.keys().collect::<Vec<_>>(), ["tool"]);
         let tool = poses["tool"];
