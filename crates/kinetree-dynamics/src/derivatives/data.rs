@@ -121,7 +121,6 @@ pub struct DerivativesData {
     pub(crate) df_dv: Vec<Force>,
     pub(crate) df_da: Vec<Force>,
     pub(crate) zeros: Vec<f64>,
-    pub(crate) column: Vec<f64>,
     // Results.
     pub(crate) tau: Vec<f64>,
     pub(crate) dtau_dq: Vec<f64>,
@@ -207,7 +206,6 @@ impl DerivativesData {
             df_dv: f(nv),
             df_da: f(nv),
             zeros: x(nv),
-            column: x(nv),
             tau: x(nv),
             dtau_dq: x(nv * nv),
             dtau_dv: x(nv * nv),
