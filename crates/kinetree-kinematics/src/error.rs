@@ -45,6 +45,18 @@ pub enum KinematicsError {
         /// The quaternion's norm.
         norm: f64,
     },
+    /// A result overflowed: every input is finite, but a placement or velocity is not (joint
+    /// values, lengths or velocities too large for `f64` arithmetic). Never a non-finite value in
+    /// an `Ok`.
+    #[error(
+        "the {what} of body '{body}' overflowed although every input is finite: the joint values, velocities or the model's lengths are too large"
+    )]
+    Overflow {
+        /// `"placement"`, `"velocity"` or `"acceleration"`.
+        what: &'static str,
+        /// The first body (named by its link) whose result is not finite.
+        body: String,
+    },
     /// A data object was created for a different model.
     #[error(
         "the data was created for a model with {data_bodies} bodies and nv = {data_nv}, not this one ({model_bodies} bodies, nv = {model_nv})"

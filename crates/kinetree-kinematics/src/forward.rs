@@ -43,6 +43,9 @@ pub fn forward_kinematics(
     data.check_model(model)?;
     check_q(model, "q", q)?;
     placements(model, data, q);
+    check_finite(model, "placement", &data.world_from_body, |x| {
+        x.translation.is_finite()
+    })?;
     link_placements(model, data);
     Ok(())
 }
@@ -70,6 +73,10 @@ pub fn forward_kinematics_with_velocity(
         let parent_v = data.parent_from_body[i].act_inv_motion(&data.body_velocity[b.parent]);
         data.body_velocity[i] = parent_v + vj;
     }
+    check_finite(model, "placement", &data.world_from_body, |x| {
+        x.translation.is_finite()
+    })?;
+    check_finite(model, "velocity", &data.body_velocity, Motion::is_finite)?;
     link_placements(model, data);
     Ok(())
 }
@@ -99,7 +106,34 @@ pub fn forward_kinematics_with_acceleration(
         let parent_a = data.parent_from_body[i].act_inv_motion(&data.body_acceleration[b.parent]);
         data.body_acceleration[i] = parent_a + aj + data.body_velocity[i].cross_motion(&vj);
     }
+    check_finite(
+        model,
+        "acceleration",
+        &data.body_acceleration,
+        Motion::is_finite,
+    )?;
     Ok(())
+}
+
+/// [`KinematicsError::Overflow`] naming the first body whose entry of `xs` fails `ok`.
+pub(crate) fn check_finite<T>(
+    model: &Model,
+    what: &'static str,
+    xs: &[T],
+    ok: impl Fn(&T) -> bool,
+) -> Result<(), KinematicsError> {
+    match xs.iter().position(|x| !ok(x)) {
+        None => Ok(()),
+        Some(i) => {
+            let body = model
+                .links()
+                .iter()
+                .enumerate()
+                .find(|&(l, _)| model.link_body(l).0 == i)
+                .map_or_else(|| format!("#{i}"), |(_, link)| link.name.clone());
+            Err(KinematicsError::Overflow { what, body })
+        }
+    }
 }
 
 /// The body sweep shared by every variant: `parent_from_body` and `world_from_body`.

@@ -150,6 +150,9 @@ pub fn compute_frame_jacobian(
     check_q(model, "q", q)?;
     check_out(out, model.nv())?;
     placements(model, data, q);
+    crate::forward::check_finite(model, "placement", &data.world_from_body, |x| {
+        x.translation.is_finite()
+    })?;
     let (body, body_from_frame) = frame.body(model)?;
     let world_from_frame = data.world_from_body[body] * body_from_frame;
     if let FrameId::Link(l) = frame {

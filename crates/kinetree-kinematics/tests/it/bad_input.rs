@@ -114,3 +114,39 @@ fn quaternions_within_the_tolerance_are_normalized() {
         Err(KinematicsError::NonUnitQuaternion { .. })
     ));
 }
+
+#[test]
+fn an_overflowing_placement_is_an_error_naming_the_body() {
+    // Two prismatic joints along x: 1e308 + 1e308 overflows to inf.
+    let model = Model::from_urdf_str(
+        r#"<robot name="r"><link name="base"/><link name="a"/><link name="b"/>
+           <joint name="s1" type="prismatic"><parent link="base"/><child link="a"/>
+             <axis xyz="1 0 0"/><limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
+           <joint name="s2" type="prismatic"><parent link="a"/><child link="b"/>
+             <axis xyz="1 0 0"/><limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
+           </robot>"#,
+        RootJoint::Fixed,
+    )
+    .unwrap();
+    let mut data = KinematicsData::new(&model);
+    match forward_kinematics(&model, &mut data, &[1e308, 1e308]) {
+        Err(e @ KinematicsError::Overflow { .. }) => {
+            assert!(e.to_string().contains("'b'"), "{e}");
+        }
+        other => panic!("expected Overflow, got {other:?}"),
+    }
+    let mut jac = vec![kinetree_kinematics::spatial::Motion::ZERO; 2];
+    assert!(matches!(
+        kinetree_kinematics::compute_frame_jacobian(
+            &model,
+            &mut data,
+            &[1e308, 1e308],
+            FrameId::find(&model, "b").unwrap(),
+            kinetree_kinematics::ReferenceFrame::World,
+            &mut jac,
+        ),
+        Err(KinematicsError::Overflow { .. })
+    ));
+    // Large but representable values are fine.
+    forward_kinematics(&model, &mut data, &[1e300, 1e300]).unwrap();
+}
