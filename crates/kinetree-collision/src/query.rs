@@ -115,7 +115,7 @@ pub fn compute_self_collisions<'d>(
         }
         let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
         match proximity(sa.posed(&world[a]), sb.posed(&world[b]), 0.0, scratch) {
-            Ok(Some(w)) => contacts.push(with_ids(w, a, b)),
+            Ok(Some(w)) => contacts.push(with_ids(touching(w), a, b)),
             Ok(None) => {}
             Err(_) => {
                 result = Err(unsupported(sa.name(), sb.name()));
@@ -155,7 +155,7 @@ pub fn compute_world_collisions<'d>(
         }
         let (s, o) = (&cmodel.shapes[a], obstacle(obstacles, b - n));
         match proximity(s.posed(&world[a]), o.posed(), 0.0, scratch) {
-            Ok(Some(w)) => contacts.push(with_ids(w, a, b - n)),
+            Ok(Some(w)) => contacts.push(with_ids(touching(w), a, b - n)),
             Ok(None) => {}
             Err(_) => {
                 result = Err(unsupported(s.name(), o.name()));
@@ -301,6 +301,16 @@ pub fn compute_link_pair_distances<'m>(
             )
         })
         .collect())
+}
+
+/// A contact found by the zero-margin narrow phase: GJK accepts separations within its
+/// tolerance (about 1e-10 m) as contact, and such a pair is listed as touching (distance 0),
+/// never with a positive distance.
+fn touching(w: Witness) -> Witness {
+    Witness {
+        distance: w.distance.min(0.0),
+        ..w
+    }
 }
 
 fn with_ids(w: Witness, a: usize, b: usize) -> Proximity {
