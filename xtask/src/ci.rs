@@ -7,9 +7,10 @@ use anyhow::{Result, bail};
 use std::process::Command;
 use std::time::Instant;
 
-/// The test command. README.md's "two commands" section shows exactly this string (a test below
-/// keeps them equal), so what a contributor runs is what CI runs.
-pub(crate) const TEST_COMMAND: &str = "cargo test --workspace";
+/// The test command: the Rust tests and the Python package's tests (see `test.rs`). README.md's
+/// "two commands" section shows exactly this string (a test below keeps them equal), so what a
+/// contributor runs is what CI runs.
+pub(crate) const TEST_COMMAND: &str = "cargo xtask test";
 
 /// How a step runs: a cargo command line, or a check inside this process.
 enum Action {
@@ -45,7 +46,7 @@ fn steps() -> Vec<(&'static str, Action)> {
         ),
         ("cargo xtask layers", Action::InProcess(crate::layers::run)),
         ("cargo xtask tidy", Action::InProcess(crate::tidy::run)),
-        (TEST_COMMAND, Action::Cargo(&["test", "--workspace"], &[])),
+        (TEST_COMMAND, Action::InProcess(crate::test::run)),
         (
             "RUSTDOCFLAGS=-D warnings cargo doc --workspace --no-deps",
             Action::Cargo(

@@ -6,7 +6,7 @@
 //! ```text
 //! kinetree-spatial ← kinetree-model ← kinetree-kinematics ← { kinetree-dynamics, kinetree-collision,
 //!                                                             kinetree-workspace }
-//! kinetree-cli → kinetree (the facade) only
+//! kinetree-cli, kinetree-py → kinetree (the facade) only
 //! ```
 //!
 //! Dev-dependencies are exempt from the layer rule (a test may use a higher layer). Every internal
@@ -34,6 +34,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("kinetree-workspace", &["kinetree-kinematics"]),
     (TEST_SUPPORT, &["kinetree-kinematics"]),
     ("kinetree-cli", &["kinetree"]),
+    ("kinetree-py", &["kinetree"]),
 ];
 
 /// The unpublished crate of test helpers: a dev-dependency only, without a version.

@@ -14,6 +14,7 @@ mod ik_report;
 mod layers;
 mod regress;
 mod regress_derivatives;
+mod test;
 mod tidy;
 
 const USAGE: &str = "\
@@ -21,6 +22,7 @@ usage: cargo xtask <task> [args]
 
 tasks:
   ci             run every CI step in order (fmt, clippy, layers, tidy, tests, docs, benches build)
+  test           every test: cargo test --workspace, then the Python package's pytest suite
   layers         check that each crate depends only on the layer directly below it
   tidy           reject should_panic and ignore test attributes anywhere in the tree
   corpus <dir>   load every .urdf under <dir> and print one line per file
@@ -46,6 +48,7 @@ fn try_main() -> Result<()> {
     };
     match task.as_str() {
         "ci" => ci::run(rest),
+        "test" => test::run(rest),
         "layers" => layers::run(rest),
         "tidy" => tidy::run(rest),
         "corpus" => corpus::run(rest),

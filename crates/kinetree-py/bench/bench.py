@@ -1,0 +1,168 @@
+"""Per-call and batched timings of kinetree's Python bindings beside Pinocchio's (``pin``).
+
+    python crates/kinetree-py/bench/bench.py [--pin-site /path/to/venv/lib/python3.X/site-packages]
+
+For each robot (panda, ur5, talos_reduced) and call (FK of all links, a frame Jacobian, RNEA,
+CRBA, ABA, one IK solve) it prints the time of one call from Python, kinetree beside Pinocchio,
+and the time per state of kinetree's batched call at N = 10 000 beside Pinocchio called in a
+Python loop. Pinocchio is optional (``pip install pin``); ``--pin-site`` adds a virtualenv's
+site-packages where it is installed. Every timing is the best of several repetitions, kinetree
+and Pinocchio interleaved, so that machine load hits both alike. This is a benchmark, not a test.
+
+Pinocchio has no IK solver: its row is the closed-loop damped least-squares loop of Pinocchio's
+documentation (``log6`` error, ``computeFrameJacobian``, ``integrate``) run to the same
+tolerance.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import pathlib
+import site
+import time
+
+import numpy as np
+
+import kinetree
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+URDF = ROOT / "tests" / "data" / "reference" / "urdf"
+ROBOTS = {  # name: (urdf, floating, frame)
+    "panda": ("panda.urdf", False, "panda_hand_tcp"),
+    "ur5": ("ur5.urdf", False, "tool0"),
+    "talos_reduced": ("talos_reduced.urdf", True, "gripper_left_base_link"),
+}
+N = 10_000
+
+
+def best(fn, repeat=5, number=None):
+    """Best time of one call of fn (s), over `repeat` runs of `number` calls."""
+    if number is None:
+        t0 = time.perf_counter()
+        fn()
+        one = max(time.perf_counter() - t0, 1e-7)
+        number = max(1, min(20_000, int(0.05 / one)))
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        for _ in range(number):
+            fn()
+        times.append((time.perf_counter() - t0) / number)
+    return min(times)
+
+
+def interleaved(fa, fb, rounds=3, **kw):
+    ta, tb = [], []
+    for _ in range(rounds):
+        ta.append(best(fa, **kw))
+        if fb is not None:
+            tb.append(best(fb, **kw))
+    return min(ta), (min(tb) if tb else None)
+
+
+def pin_clik(pin, model, data, frame_id, goal, q0, tol=1e-6, iters=1000, damp=1e-12, dt=1.0):
+    q = q0.copy()
+    for _ in range(iters):
+        pin.forwardKinematics(model, data, q)
+        pin.updateFramePlacement(model, data, frame_id)
+        err = pin.log6(data.oMf[frame_id].actInv(goal)).vector
+        if np.linalg.norm(err) < tol:
+            return q, True
+        J = pin.computeFrameJacobian(model, data, q, frame_id, pin.ReferenceFrame.LOCAL)
+        J = -np.dot(pin.Jlog6(data.oMf[frame_id].actInv(goal)), J)
+        v = -J.T.dot(np.linalg.solve(J.dot(J.T) + damp * np.eye(6), err))
+        q = pin.integrate(model, q, v * dt)
+    return q, False
+
+
+def fmt(t):
+    if t is None:
+        return "—"
+    return f"{t * 1e6:.2f} µs" if t < 1e-3 else f"{t * 1e3:.2f} ms"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--pin-site", help="site-packages of a virtualenv with pin installed")
+    parser.add_argument("--robots", default=",".join(ROBOTS))
+    args = parser.parse_args()
+    if args.pin_site:
+        site.addsitedir(args.pin_site)
+    try:
+        import pinocchio as pin
+    except ImportError:
+        pin = None
+        print("pinocchio not found: kinetree timings only")
+
+    rows = []
+    for robot in args.robots.split(","):
+        urdf, floating, frame = ROBOTS[robot]
+        m = kinetree.Model.from_urdf(str(URDF / urdf), floating=floating)
+        rng = np.random.default_rng(0)
+        q = m.random_configuration(seed=1)
+        v, a = rng.uniform(-1, 1, m.nv), rng.uniform(-1, 1, m.nv)
+        Q = m.random_configuration(N, seed=2)
+        V, A = rng.uniform(-1, 1, (N, m.nv)), rng.uniform(-1, 1, (N, m.nv))
+        if pin is not None:
+            pm = (pin.buildModelFromUrdf(str(URDF / urdf), pin.JointModelFreeFlyer()) if floating
+                  else pin.buildModelFromUrdf(str(URDF / urdf)))
+            pd = pm.createData()
+            fid = pm.getFrameId(frame)
+            pq = pin.randomConfiguration(pm)
+            pv, pa = rng.uniform(-1, 1, pm.nv), rng.uniform(-1, 1, pm.nv)
+            PQ = [pin.randomConfiguration(pm) for _ in range(N)]
+            lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        calls = {
+            "FK (all links)": (lambda: m.link_placements(q), lambda: m.link_placements(Q),
+                               (lambda: pin.forwardKinematics(pm, pd, pq)) if pin else None,
+                               (lambda: [pin.forwardKinematics(pm, pd, x) for x in PQ]) if pin else None),
+            "frame Jacobian": (lambda: m.frame_jacobian(q, frame), lambda: m.frame_jacobian(Q, frame),
+                               (lambda: pin.computeFrameJacobian(pm, pd, pq, fid, lwa)) if pin else None,
+                               (lambda: [pin.computeFrameJacobian(pm, pd, x, fid, lwa) for x in PQ]) if pin else None),
+            "RNEA": (lambda: m.rnea(q, v, a), lambda: m.rnea(Q, V, A),
+                     (lambda: pin.rnea(pm, pd, pq, pv, pa)) if pin else None,
+                     (lambda: [pin.rnea(pm, pd, x, pv, pa) for x in PQ]) if pin else None),
+            "CRBA": (lambda: m.crba(q), lambda: m.crba(Q),
+                     (lambda: pin.crba(pm, pd, pq)) if pin else None,
+                     (lambda: [pin.crba(pm, pd, x) for x in PQ]) if pin else None),
+            "ABA": (lambda: m.aba(q, v, a), lambda: m.aba(Q, V, A),
+                    (lambda: pin.aba(pm, pd, pq, pv, pa)) if pin else None,
+                    (lambda: [pin.aba(pm, pd, x, pv, pa) for x in PQ]) if pin else None),
+        }
+        for name, (one, batch, pone, pbatch) in calls.items():
+            t1, p1 = interleaved(one, pone)
+            tb, pb = interleaved(batch, pbatch, rounds=2, repeat=2, number=1)
+            rows.append((robot, name, t1, p1, tb / N, (pb / N) if pb else None))
+            print(rows[-1][0], rows[-1][1], fmt(t1), fmt(p1), fmt(tb / N), fmt(pb / N if pb else None), flush=True)
+
+        # One IK solve of a reachable pose, from the neutral configuration.
+        ik = kinetree.IkSolver(m, time_budget=None, seed=0)
+        goals = m.frame_placement(m.random_configuration(50, seed=3), frame)
+        ok = sum(ik.solve(frame, g)[1].converged for g in goals)
+        t_ik = best(lambda: [ik.solve(frame, g) for g in goals], repeat=3, number=1) / len(goals)
+        t_ikb = best(lambda: ik.solve_batch(frame, goals), repeat=3, number=1) / len(goals)
+        p_ik = None
+        if pin is not None:
+            gq = [pin.randomConfiguration(pm) for _ in range(10)]
+            pgoals = []
+            for x in gq:
+                pin.framesForwardKinematics(pm, pd, x)
+                pgoals.append(pd.oMf[fid].copy())
+            q0 = pin.neutral(pm)
+            p_ik = best(lambda: [pin_clik(pin, pm, pd, fid, g, q0) for g in pgoals], repeat=2, number=1) / len(pgoals)
+        rows.append((robot, f"IK solve ({ok}/{len(goals)} converged)", t_ik, p_ik, t_ikb, None))
+        print(rows[-1][0], rows[-1][1], fmt(t_ik), fmt(p_ik), fmt(t_ikb), flush=True)
+
+    print()
+    print(f"load average {os.getloadavg()[0]:.1f}, {os.cpu_count()} cores, N = {N}")
+    print()
+    print("| robot | call | kinetree, one call | pin, one call | kinetree batched, per state | pin loop, per state | batched speed-up |")
+    print("|---|---|---|---|---|---|---|")
+    for robot, name, t1, p1, tb, pb in rows:
+        up = f"{pb / tb:.0f}×" if pb else "—"
+        print(f"| {robot} | {name} | {fmt(t1)} | {fmt(p1)} | {fmt(tb)} | {fmt(pb)} | {up} |")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,295 @@
+//! `Model` methods of the dynamics layer: RNEA, CRBA, ABA, the inverse mass matrix, energies,
+//! centre of mass, centroidal momentum and simulation. All are rigid-body dynamics (the joints'
+//! damping, friction and armature left out), as Pinocchio computes them.
+
+use crate::arrays::{ArrayPair, States, finite, new_data, run, states, to_numpy};
+use crate::errors::{Family, py_err};
+use crate::model::PyModel;
+use kinetree::dynamics::{
+    Integrator, aba, center_of_mass, center_of_mass_jacobian, centroidal_momentum, crba,
+    generalized_gravity, kinetic_energy, mass_matrix_inverse, nonlinear_effects, potential_energy,
+    rnea, step,
+};
+use pyo3::prelude::*;
+
+const F: Family = Family::Dynamics;
+
+#[pymethods]
+impl PyModel {
+    /// Inverse dynamics (RNEA): the joint torques ``tau`` that give acceleration ``a`` at
+    /// ``(q, v)`` under gravity. Shape ``(nv,)``, or ``(N, nv)`` for stacked inputs.
+    ///
+    /// >>> tau = panda.rnea(panda.neutral(), [0.0] * 9, [0.0] * 9)
+    /// >>> bool(np.allclose(tau, panda.gravity(panda.neutral())))
+    /// True
+    fn rnea<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        a: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (q, v, a) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(a, "a", F)?);
+        run(
+            py,
+            self,
+            &[&q, &v, &a],
+            &[self.model.nv()],
+            F,
+            |d, x, out| {
+                out.copy_from_slice(rnea(&self.model, d, x[0], x[1], x[2])?);
+                Ok(())
+            },
+        )
+    }
+
+    /// Nonlinear effects ``C(q, v) v + g(q)`` (RNEA with zero acceleration): shape ``(nv,)``.
+    ///
+    /// >>> q = panda.neutral()
+    /// >>> bool(np.allclose(panda.nle(q, np.zeros(9)), panda.gravity(q)))
+    /// True
+    fn nle<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (q, v) = (self.q(q, F)?, self.v(v, "v", F)?);
+        run(py, self, &[&q, &v], &[self.model.nv()], F, |d, x, out| {
+            out.copy_from_slice(nonlinear_effects(&self.model, d, x[0], x[1])?);
+            Ok(())
+        })
+    }
+
+    /// Generalized gravity ``g(q)``: the torques holding the robot still at ``q``.
+    ///
+    /// >>> arm = kinetree.Model.from_dh([[1.0, 0, 0, 0]])
+    /// >>> arm.gravity([0.0])  # a massless arm
+    /// array([0.])
+    fn gravity<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let q = self.q(q, F)?;
+        run(py, self, &[&q], &[self.model.nv()], F, |d, x, out| {
+            out.copy_from_slice(generalized_gravity(&self.model, d, x[0])?);
+            Ok(())
+        })
+    }
+
+    /// The joint-space mass matrix ``M(q)`` (CRBA), full and symmetric: shape ``(nv, nv)``, or
+    /// ``(N, nv, nv)``.
+    ///
+    /// >>> M = panda.crba(panda.neutral())
+    /// >>> M.shape, bool((M == M.T).all())
+    /// ((9, 9), True)
+    fn crba<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let q = self.q(q, F)?;
+        let nv = self.model.nv();
+        run(py, self, &[&q], &[nv, nv], F, |d, x, out| {
+            out.copy_from_slice(crba(&self.model, d, x[0])?);
+            Ok(())
+        })
+    }
+
+    /// Forward dynamics (ABA): the acceleration ``a`` produced by torques ``tau`` at ``(q, v)``.
+    ///
+    /// >>> q, v = panda.neutral(), np.zeros(9)
+    /// >>> a = panda.aba(q, v, panda.gravity(q))  # holding torques: no acceleration
+    /// >>> bool(np.allclose(a, 0.0, atol=1e-12))
+    /// True
+    fn aba<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        tau: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (q, v, t) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(tau, "tau", F)?);
+        run(
+            py,
+            self,
+            &[&q, &v, &t],
+            &[self.model.nv()],
+            F,
+            |d, x, out| {
+                out.copy_from_slice(aba(&self.model, d, x[0], x[1], x[2])?);
+                Ok(())
+            },
+        )
+    }
+
+    /// The inverse mass matrix ``M(q)⁻¹``: shape ``(nv, nv)`` (or stacked).
+    ///
+    /// >>> q = panda.neutral()
+    /// >>> bool(np.allclose(panda.minv(q) @ panda.crba(q), np.eye(9)))
+    /// True
+    fn minv<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let q = self.q(q, F)?;
+        let nv = self.model.nv();
+        run(py, self, &[&q], &[nv, nv], F, |d, x, out| {
+            out.copy_from_slice(mass_matrix_inverse(&self.model, d, x[0])?);
+            Ok(())
+        })
+    }
+
+    /// Kinetic energy ``½ vᵀ M(q) v`` (J): a float, or shape ``(N,)``.
+    ///
+    /// >>> q = panda.neutral(); v = np.full(9, 0.1)
+    /// >>> bool(np.isclose(panda.kinetic_energy(q, v), 0.5 * v @ panda.crba(q) @ v))
+    /// True
+    fn kinetic_energy<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (q, v) = (self.q(q, F)?, self.v(v, "v", F)?);
+        run(py, self, &[&q, &v], &[], F, |d, x, out| {
+            out[0] = kinetic_energy(&self.model, d, x[0], x[1])?;
+            Ok(())
+        })
+    }
+
+    /// Potential energy in gravity (J, zero at the world origin): a float, or shape ``(N,)``.
+    fn potential_energy<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let q = self.q(q, F)?;
+        run(py, self, &[&q], &[], F, |d, x, out| {
+            out[0] = potential_energy(&self.model, d, x[0])?;
+            Ok(())
+        })
+    }
+
+    /// Centre of mass in the world frame: shape ``(3,)`` (or ``(N, 3)``).
+    ///
+    /// >>> panda.com(panda.neutral()).shape
+    /// (3,)
+    fn com<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let q = self.q(q, F)?;
+        run(py, self, &[&q], &[3], F, |d, x, out| {
+            out.copy_from_slice(&center_of_mass(&self.model, d, x[0])?.to_array());
+            Ok(())
+        })
+    }
+
+    /// Jacobian of the centre of mass: shape ``(3, nv)`` (or stacked).
+    fn com_jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let q = self.q(q, F)?;
+        let nv = self.model.nv();
+        run(py, self, &[&q], &[3, nv], F, |d, x, out| {
+            let cols = center_of_mass_jacobian(&self.model, d, x[0])?;
+            for (k, c) in cols.iter().enumerate() {
+                for r in 0..3 {
+                    out[r * nv + k] = c[r];
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// Centroidal momentum at the centre of mass, world axes: shape ``(6,)``, linear then
+    /// angular (or ``(N, 6)``).
+    ///
+    /// >>> panda.centroidal_momentum(panda.neutral(), np.zeros(9))
+    /// array([0., 0., 0., 0., 0., 0.])
+    fn centroidal_momentum<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (q, v) = (self.q(q, F)?, self.v(v, "v", F)?);
+        run(py, self, &[&q, &v], &[6], F, |d, x, out| {
+            let h = centroidal_momentum(&self.model, d, x[0], x[1])?;
+            out[..3].copy_from_slice(&h.linear.to_array());
+            out[3..].copy_from_slice(&h.angular.to_array());
+            Ok(())
+        })
+    }
+
+    /// Simulates ``steps`` fixed steps of ``dt`` seconds from ``(q0, v0)`` under torques ``tau``
+    /// (shape ``(nv,)`` held constant, or ``(steps, nv)``, default zero) with ``integrator``
+    /// ``"rk4"`` or ``"euler"`` (semi-implicit). Returns ``(qs, vs)`` of shapes
+    /// ``(steps + 1, nq)`` and ``(steps + 1, nv)``, the initial state first.
+    ///
+    /// >>> qs, vs = panda.simulate(panda.neutral(), np.zeros(9), dt=1e-3, steps=100)
+    /// >>> qs.shape, vs.shape
+    /// ((101, 9), (101, 9))
+    #[pyo3(signature = (q0, v0, tau = None, dt = 1e-3, steps = 1000, integrator = "rk4"))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "a Python signature with defaults"
+    )]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        q0: &Bound<'py, PyAny>,
+        v0: &Bound<'py, PyAny>,
+        tau: Option<&Bound<'py, PyAny>>,
+        dt: f64,
+        steps: usize,
+        integrator: &str,
+    ) -> PyResult<ArrayPair<'py>> {
+        let (nq, nv) = (self.model.nq(), self.model.nv());
+        let dt = finite(dt, "dt", F)?;
+        let integrator = match integrator {
+            "rk4" => Integrator::RungeKutta4,
+            "euler" | "semi_implicit_euler" => Integrator::SemiImplicitEuler,
+            other => {
+                return Err(F.err(format!(
+                    "integrator must be \"rk4\" or \"euler\", got {other:?}"
+                )));
+            }
+        };
+        let (q0, v0) = (self.q(q0, F)?, self.v(v0, "v0", F)?);
+        if q0.count.is_some() || v0.count.is_some() {
+            return Err(F.err("simulate takes one initial state: q0 (nq,) and v0 (nv,)"));
+        }
+        let tau: States = match tau {
+            Some(t) => states(t, "tau", nv, F)?,
+            None => States {
+                values: vec![0.0; nv],
+                width: nv,
+                count: None,
+                name: "tau",
+            },
+        };
+        if let Some(n) = tau.count
+            && n != steps
+        {
+            return Err(F.err(format!(
+                "tau stacks {n} rows but steps = {steps}: give one row per step or shape ({nv},)"
+            )));
+        }
+        let model = &*self.model;
+        let (qs, vs) = py
+            .detach(|| {
+                let mut data = new_data(model);
+                let (mut q, mut v) = (q0.values.clone(), v0.values.clone());
+                let mut qs = Vec::with_capacity((steps + 1) * nq);
+                let mut vs = Vec::with_capacity((steps + 1) * nv);
+                qs.extend_from_slice(&q);
+                vs.extend_from_slice(&v);
+                for i in 0..steps {
+                    let t = tau.state(if tau.count.is_some() { i } else { 0 });
+                    step(model, &mut data, integrator, &mut q, &mut v, t, dt)
+                        .map_err(|e| (i, e))?;
+                    qs.extend_from_slice(&q);
+                    vs.extend_from_slice(&v);
+                }
+                Ok((qs, vs))
+            })
+            .map_err(|(i, e): (usize, kinetree::dynamics::DynamicsError)| {
+                F.err(format!("step {i}: {}", py_err(e).value(py)))
+            })?;
+        Ok((
+            to_numpy(py, &[steps + 1, nq], qs)?,
+            to_numpy(py, &[steps + 1, nv], vs)?,
+        ))
+    }
+}

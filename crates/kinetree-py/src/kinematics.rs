@@ -1,0 +1,299 @@
+//! `Model` methods of the kinematics layer: poses, Jacobians and their time derivatives, frame
+//! velocities and accelerations.
+
+use crate::arrays::run;
+use crate::errors::Family;
+use crate::model::PyModel;
+use kinetree::kinematics::spatial::{Motion, Se3};
+use kinetree::kinematics::{
+    FrameId, ReferenceFrame, change_reference, compute_frame_jacobian,
+    compute_joint_jacobians_time_variation, forward_kinematics,
+    forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
+    frame_jacobian_time_variation, frame_velocity, relative_transform, update_frame_placements,
+};
+use pyo3::prelude::*;
+use std::cell::RefCell;
+
+thread_local! {
+    /// Jacobian columns of the calls on this thread (grown to the largest `nv` seen).
+    static COLUMNS: RefCell<Vec<Motion>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` with `nv` zeroed Jacobian columns of this thread.
+pub(crate) fn with_columns<R>(nv: usize, f: impl FnOnce(&mut [Motion]) -> R) -> R {
+    COLUMNS.with(|c| {
+        let mut c = c.borrow_mut();
+        if c.len() < nv {
+            c.resize(nv, Motion::ZERO);
+        }
+        f(&mut c[..nv])
+    })
+}
+
+/// Writes `x` as a row-major 4 x 4 homogeneous matrix.
+pub(crate) fn write_se3(x: &Se3, out: &mut [f64]) {
+    for r in 0..3 {
+        let row = x.rotation.row(r);
+        out[4 * r] = row.x;
+        out[4 * r + 1] = row.y;
+        out[4 * r + 2] = row.z;
+        out[4 * r + 3] = x.translation[r];
+    }
+    out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+}
+
+/// Writes Jacobian columns as a row-major 6 x nv matrix (rows linear, then angular).
+pub(crate) fn write_columns(columns: &[Motion], out: &mut [f64]) {
+    let nv = columns.len();
+    for (k, c) in columns.iter().enumerate() {
+        for r in 0..3 {
+            out[r * nv + k] = c.linear[r];
+            out[(r + 3) * nv + k] = c.angular[r];
+        }
+    }
+}
+
+/// Writes a twist as 6 numbers, linear then angular.
+fn write_motion(m: &Motion, out: &mut [f64]) {
+    out[..3].copy_from_slice(&m.linear.to_array());
+    out[3..].copy_from_slice(&m.angular.to_array());
+}
+
+/// Parses a reference-frame name.
+pub(crate) fn reference_frame(name: &str, family: Family) -> PyResult<ReferenceFrame> {
+    match name {
+        "local_world_aligned" | "LOCAL_WORLD_ALIGNED" => Ok(ReferenceFrame::LocalWorldAligned),
+        "local" | "LOCAL" => Ok(ReferenceFrame::Local),
+        "world" | "WORLD" => Ok(ReferenceFrame::World),
+        other => Err(family.err(format!(
+            "reference must be \"local_world_aligned\", \"local\" or \"world\", got {other:?}"
+        ))),
+    }
+}
+
+impl PyModel {
+    /// Looks up a link or named frame.
+    pub(crate) fn frame(&self, name: &str, family: Family) -> PyResult<FrameId> {
+        FrameId::find(&self.model, name).map_err(|e| family.err(e.to_string()))
+    }
+}
+
+#[pymethods]
+impl PyModel {
+    /// World pose of every link as 4 x 4 homogeneous matrices, in ``link_names`` order:
+    /// shape ``(nlinks, 4, 4)``, or ``(N, nlinks, 4, 4)`` for ``q`` of shape ``(N, nq)``.
+    ///
+    /// >>> poses = panda.link_placements(panda.neutral())
+    /// >>> poses.shape, poses[1, :3, 3]
+    /// ((13, 4, 4), array([0.   , 0.   , 0.333]))
+    fn link_placements<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = Family::Kinematics;
+        let q = self.q(q, f)?;
+        let nl = self.model.links().len();
+        run(py, self, &[&q], &[nl, 4, 4], f, |d, x, out| {
+            let k = d.kinematics_mut();
+            forward_kinematics(&self.model, k, x[0])?;
+            for (x, o) in k.world_from_link().iter().zip(out.chunks_exact_mut(16)) {
+                write_se3(x, o);
+            }
+            Ok(())
+        })
+    }
+
+    /// World pose of every named frame, in ``frame_names`` order: shape ``(nframes, 4, 4)`` (or
+    /// stacked).
+    fn frame_placements<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = Family::Kinematics;
+        let q = self.q(q, f)?;
+        let nf = self.model.frames().len();
+        run(py, self, &[&q], &[nf, 4, 4], f, |d, x, out| {
+            let k = d.kinematics_mut();
+            forward_kinematics(&self.model, k, x[0])?;
+            update_frame_placements(&self.model, k)?;
+            for (x, o) in k.world_from_frame().iter().zip(out.chunks_exact_mut(16)) {
+                write_se3(x, o);
+            }
+            Ok(())
+        })
+    }
+
+    /// World pose of one link or named frame: shape ``(4, 4)`` (or ``(N, 4, 4)``).
+    ///
+    /// >>> float(panda.frame_placement(panda.neutral(), "panda_link1")[2, 3])
+    /// 0.333
+    fn frame_placement<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        name: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = Family::Kinematics;
+        let frame = self.frame(name, f)?;
+        let q = self.q(q, f)?;
+        run(py, self, &[&q], &[4, 4], f, |d, x, out| {
+            let k = d.kinematics_mut();
+            forward_kinematics(&self.model, k, x[0])?;
+            if let FrameId::Frame(_) = frame {
+                update_frame_placements(&self.model, k)?;
+            }
+            write_se3(k.world_from(frame)?, out);
+            Ok(())
+        })
+    }
+
+    /// Pose of frame ``b`` in frame ``a`` (``a_from_b``): shape ``(4, 4)`` (or ``(N, 4, 4)``).
+    ///
+    /// >>> t = panda.relative_transform(panda.neutral(), "panda_link0", "panda_link1")
+    /// >>> float(t[2, 3])
+    /// 0.333
+    fn relative_transform<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        a: &str,
+        b: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = Family::Kinematics;
+        let (fa, fb) = (self.frame(a, f)?, self.frame(b, f)?);
+        let q = self.q(q, f)?;
+        run(py, self, &[&q], &[4, 4], f, |d, x, out| {
+            let k = d.kinematics_mut();
+            forward_kinematics(&self.model, k, x[0])?;
+            update_frame_placements(&self.model, k)?;
+            write_se3(&relative_transform(k, fa, fb)?, out);
+            Ok(())
+        })
+    }
+
+    /// Jacobian of a link or frame: shape ``(6, nv)`` (or ``(N, 6, nv)``), rows linear then
+    /// angular, so that ``J @ v`` is the frame's twist in ``reference``
+    /// (``"local_world_aligned"``, ``"local"`` or ``"world"``).
+    ///
+    /// >>> J = panda.frame_jacobian(panda.neutral(), "panda_hand_tcp")
+    /// >>> J.shape, float(J[5, 0])
+    /// ((6, 9), 1.0)
+    #[pyo3(signature = (q, name, reference = "local_world_aligned"))]
+    fn frame_jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        name: &str,
+        reference: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = Family::Kinematics;
+        let frame = self.frame(name, f)?;
+        let reference = reference_frame(reference, f)?;
+        let q = self.q(q, f)?;
+        let nv = self.model.nv();
+        run(py, self, &[&q], &[6, nv], f, |d, x, out| {
+            with_columns(nv, |cols| {
+                compute_frame_jacobian(
+                    &self.model,
+                    d.kinematics_mut(),
+                    x[0],
+                    frame,
+                    reference,
+                    cols,
+                )?;
+                write_columns(cols, out);
+                Ok(())
+            })
+        })
+    }
+
+    /// Time derivative of the frame Jacobian at ``(q, v)``: shape ``(6, nv)`` (or stacked), in
+    /// ``reference`` as ``frame_jacobian``.
+    ///
+    /// >>> bool(panda.frame_jacobian_time_variation(panda.neutral(), [0.0] * 9, "panda_hand_tcp").any())
+    /// False
+    #[pyo3(signature = (q, v, name, reference = "local_world_aligned"))]
+    fn frame_jacobian_time_variation<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        name: &str,
+        reference: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = Family::Kinematics;
+        let frame = self.frame(name, f)?;
+        let reference = reference_frame(reference, f)?;
+        let (q, v) = (self.q(q, f)?, self.v(v, "v", f)?);
+        let nv = self.model.nv();
+        run(py, self, &[&q, &v], &[6, nv], f, |d, x, out| {
+            with_columns(nv, |cols| {
+                let k = d.kinematics_mut();
+                compute_joint_jacobians_time_variation(&self.model, k, x[0], x[1])?;
+                frame_jacobian_time_variation(&self.model, k, frame, reference, cols)?;
+                write_columns(cols, out);
+                Ok(())
+            })
+        })
+    }
+
+    /// Twist of a link or frame at ``(q, v)``: shape ``(6,)`` (linear, angular; or ``(N, 6)``)
+    /// in ``reference``.
+    ///
+    /// >>> q, v = panda.neutral(), panda.v_from_dict({"panda_joint1": 2.0})
+    /// >>> float(panda.frame_velocity(q, v, "panda_link1")[5])
+    /// 2.0
+    #[pyo3(signature = (q, v, name, reference = "local_world_aligned"))]
+    fn frame_velocity<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        name: &str,
+        reference: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = Family::Kinematics;
+        let frame = self.frame(name, f)?;
+        let reference = reference_frame(reference, f)?;
+        let (q, v) = (self.q(q, f)?, self.v(v, "v", f)?);
+        run(py, self, &[&q, &v], &[6], f, |d, x, out| {
+            let k = d.kinematics_mut();
+            forward_kinematics_with_velocity(&self.model, k, x[0], x[1])?;
+            write_motion(&frame_velocity(&self.model, k, frame, reference)?, out);
+            Ok(())
+        })
+    }
+
+    /// Spatial acceleration of a link or frame at ``(q, v, a)`` (gravity not included): shape
+    /// ``(6,)`` (or ``(N, 6)``) in ``reference``, as Pinocchio's ``getFrameAcceleration``.
+    ///
+    /// >>> q, a = panda.neutral(), panda.v_from_dict({"panda_joint1": 3.0})
+    /// >>> float(panda.frame_acceleration(q, [0.0] * 9, a, "panda_link1")[5])
+    /// 3.0
+    #[pyo3(signature = (q, v, a, name, reference = "local_world_aligned"))]
+    fn frame_acceleration<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        a: &Bound<'py, PyAny>,
+        name: &str,
+        reference: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = Family::Kinematics;
+        let frame = self.frame(name, f)?;
+        let reference = reference_frame(reference, f)?;
+        let (q, v, a) = (self.q(q, f)?, self.v(v, "v", f)?, self.v(a, "a", f)?);
+        run(py, self, &[&q, &v, &a], &[6], f, |d, x, out| {
+            let k = d.kinematics_mut();
+            forward_kinematics_with_acceleration(&self.model, k, x[0], x[1], x[2])?;
+            let (body, body_from_frame) = frame.body(&self.model)?;
+            let local = body_from_frame.act_inv_motion(&k.body_acceleration()[body]);
+            let world_from_frame = k.world_from_body()[body] * body_from_frame;
+            write_motion(&change_reference(&world_from_frame, &local, reference), out);
+            Ok(())
+        })
+    }
+}
