@@ -45,7 +45,8 @@ enum Command {
     Workspace(cmd::workspace::Args),
     /// Write one frame's forward kinematics as Rust, C or Python (SymPy/CasADi) source.
     Codegen(cmd::codegen::Args),
-    // Later commands slot in here, one module each: dynamics, ik, workspace, collide, simulate.
+    /// Show the robot in the browser: move joints, drag a frame with IK, play a trajectory.
+    View(cmd::view::Args),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +62,7 @@ fn main() -> ExitCode {
         Command::Ik(args) => cmd::ik::run(&args),
         Command::Simulate(args) => cmd::simulate::run(&args),
         Command::Codegen(args) => cmd::codegen::run(&args),
+        Command::View(args) => cmd::view::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -9,6 +9,7 @@ pub(crate) mod dynamics;
 pub(crate) mod ik;
 pub(crate) mod inspect;
 pub(crate) mod simulate;
+pub(crate) mod view;
 pub(crate) mod workspace;
 
 use anyhow::{Context, Result};

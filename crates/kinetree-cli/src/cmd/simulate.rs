@@ -52,6 +52,10 @@ pub(crate) struct Args {
     /// Run even when --duration / --dt exceeds the limit of 10⁹ steps.
     #[arg(long)]
     no_limit: bool,
+    /// Write the trajectory (about 1000 samples) as JSON for `kinetree view --trajectory`:
+    /// `{"model": name, "trajectory": [{"t": s, "q": {"joint": value, …}}, …]}`.
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 /// The most steps run without --no-limit.
@@ -114,6 +118,10 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     record(0.0, &q, &mut curves);
     let mut limits = LimitLog::new(&model, &q);
     let mut dissipated_by_stops = 0.0;
+    let mut samples: Vec<(f64, Vec<f64>)> = Vec::new();
+    if args.out.is_some() {
+        samples.push((0.0, q.clone()));
+    }
     let start = std::time::Instant::now();
     // Progress on a terminal (hidden otherwise), updated about 200 times.
     let bar = indicatif::ProgressBar::new(steps as u64);
@@ -157,6 +165,9 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         if k % every == 0 || k == steps {
             let t = k as f64 * args.dt;
             record(t, &q, &mut curves);
+            if args.out.is_some() {
+                samples.push((t, q.clone()));
+            }
             energy.push((t, mechanical_energy(&model, &mut data, &q, &v)?));
         }
     }
@@ -192,6 +203,31 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             .map(|x| format!("{x:.6}"))
             .collect();
         outln!("  {:<28} {}", model.joint(j).name, x.join(" "))?;
+    }
+    if let Some(path) = &args.out {
+        let trajectory: Vec<serde_json::Value> = samples
+            .iter()
+            .map(|(t, q)| {
+                let by_name: serde_json::Map<String, serde_json::Value> = model
+                    .moving_joints()
+                    .filter(|&j| model.joint(j).mimic.is_none())
+                    .map(|j| {
+                        let x = &q[model.joint_q_range(j)];
+                        let value = if x.len() == 1 {
+                            serde_json::json!(x[0])
+                        } else {
+                            serde_json::json!(x)
+                        };
+                        (model.joint(j).name.clone(), value)
+                    })
+                    .collect();
+                serde_json::json!({"t": t, "q": by_name})
+            })
+            .collect();
+        let doc = serde_json::json!({"model": model.name(), "trajectory": trajectory});
+        std::fs::write(path, doc.to_string())
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        outln!("trajectory written to {}", path.display())?;
     }
     if let Some(path) = &args.plot {
         let names: Vec<&str> = plotted
