@@ -6,10 +6,10 @@
 use crate::arrays::{ArrayPair, finite, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
-use kinetree::kinematics::reachable::{
+use kinetree::kinematics::spatial::DVec3;
+use kinetree::workspace::{
     ReachableParams, ReachableSet, TaskSpace, VoxelMap, VoxelStats, sample_reachable,
 };
-use kinetree::kinematics::spatial::DVec3;
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
