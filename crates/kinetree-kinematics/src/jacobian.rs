@@ -73,12 +73,21 @@ pub fn compute_joint_jacobians(
 
 fn fill_joint_jacobians(model: &Model, data: &mut KinematicsData) {
     for (i, b) in model.bodies().iter().enumerate().skip(1) {
-        let x = data.world_from_body[i];
+        let x = &data.world_from_body[i];
+        let jm = &data.joint_models[i];
+        if let Some(col) = jm.act_axis(x) {
+            if b.mimic.is_some() {
+                data.mimic_jacobian[i] = col;
+            } else {
+                data.jacobian[b.idx_v] = col;
+            }
+            continue;
+        }
         if b.mimic.is_some() {
-            data.mimic_jacobian[i] = x.act_motion(&data.joint_models[i].subspace_column(0));
+            data.mimic_jacobian[i] = x.act_motion(&jm.subspace_column(0));
         }
         for k in 0..b.nv {
-            data.jacobian[b.idx_v + k] = x.act_motion(&data.joint_models[i].subspace_column(k));
+            data.jacobian[b.idx_v + k] = x.act_motion(&jm.subspace_column(k));
         }
     }
 }
@@ -163,14 +172,20 @@ pub fn compute_frame_jacobian(
     let mut i = body;
     while i != 0 {
         let b = &bodies[i];
-        let x = data.world_from_body[i];
+        let x = &data.world_from_body[i];
+        let jm = &data.joint_models[i];
         if let Some(m) = &b.mimic {
-            let col = x.act_motion(&data.joint_models[i].subspace_column(0));
+            let col = jm
+                .act_axis(x)
+                .unwrap_or_else(|| x.act_motion(&jm.subspace_column(0)));
             out[b.idx_v] += world_to_reference(&world_from_frame, &col, reference) * m.multiplier;
-        }
-        for k in 0..b.nv {
-            let col = x.act_motion(&data.joint_models[i].subspace_column(k));
-            out[b.idx_v + k] += world_to_reference(&world_from_frame, &col, reference);
+        } else if let Some(col) = jm.act_axis(x) {
+            out[b.idx_v] += world_to_reference(&world_from_frame, &col, reference);
+        } else {
+            for k in 0..b.nv {
+                let col = x.act_motion(&jm.subspace_column(k));
+                out[b.idx_v + k] += world_to_reference(&world_from_frame, &col, reference);
+            }
         }
         i = b.parent;
     }

@@ -7,7 +7,7 @@
 
 use glam::{DQuat, DVec3};
 use kinetree_model::spatial::axis::unit_cross;
-use kinetree_model::spatial::{Force, Motion, OriginInertia};
+use kinetree_model::spatial::{Force, Motion, OriginInertia, Se3};
 use kinetree_model::{Body, JointKind, plane_basis};
 
 /// A joint specialised for fast evaluation: axis-aligned revolute and prismatic joints skip the
@@ -157,6 +157,23 @@ impl JointModel {
             Self::PrismaticY => axis_momentum::<1, false>(y),
             Self::PrismaticZ => axis_momentum::<2, false>(y),
             _ => return None,
+        })
+    }
+
+    /// `x · S` for the joints of [`JointModel::axis_index`]: their one subspace column moved by
+    /// `x` (a joint Jacobian column when `x` is `world_from_body`). The axis is a column of `x`'s
+    /// rotation, so there is no matrix product. `None` for other kinds (use
+    /// [`Se3::act_motion`](kinetree_model::spatial::Se3::act_motion) on
+    /// [`JointModel::subspace_column`]).
+    #[inline(always)]
+    #[must_use]
+    pub fn act_axis(&self, x: &Se3) -> Option<Motion> {
+        let (k, rev) = self.axis_index()?;
+        let axis = x.rotation.col(k);
+        Some(if rev {
+            Motion::new(x.translation.cross(axis), axis)
+        } else {
+            Motion::new(axis, DVec3::ZERO)
         })
     }
 
