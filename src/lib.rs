@@ -44,13 +44,22 @@ pub use error::Error;
 #[doc = include_str!("../docs/from-the-seeds.md")]
 pub struct FromTheSeeds;
 
-/// The names most programs need, for `use kinetree::prelude::*;`.
+/// The names most programs need, for `use kinetree::prelude::*;`: from every layer its Data
+/// types, its main algorithms and its error (each behind the layer's feature).
 ///
 /// # Examples
 /// ```
 /// use kinetree::prelude::*;
 /// let world_from_tool = Se3::from_translation(DVec3::new(0.0, 0.0, 0.1));
 /// assert_eq!(world_from_tool.transform_point(DVec3::ZERO).z, 0.1);
+/// # #[cfg(feature = "dynamics")] {
+/// let pendulum = kinetree::model::samples::pendulum();
+/// let mut data = DynamicsData::new(&pendulum);
+/// // Held horizontal (q = π/2), the 1 kg bob 1 m out needs m·g·l = 9.81 N·m.
+/// let tau = rnea(&pendulum, &mut data, &[std::f64::consts::FRAC_PI_2], &[0.0], &[0.0])?;
+/// assert!((tau[0] - 9.81).abs() < 1e-12);
+/// # }
+/// # Ok::<(), kinetree::Error>(())
 /// ```
 pub mod prelude {
     pub use crate::Error;
@@ -58,6 +67,26 @@ pub mod prelude {
 
     #[cfg(feature = "model")]
     pub use crate::model::{JointKind, JointLimits, Model, ModelBuilder, ModelError, RootJoint};
-    // The kinematics, dynamics and collision layers add their Data types, algorithms and
-    // errors here as they land (for example `KinematicsData`, `forward_kinematics`, `rnea`).
+
+    #[cfg(feature = "kinematics")]
+    pub use crate::kinematics::ik::{IkParams, IkSolver, IkTarget};
+    #[cfg(feature = "kinematics")]
+    pub use crate::kinematics::{
+        Chain, FrameId, KinematicsData, KinematicsError, ReferenceFrame, compute_frame_jacobian,
+        configuration, forward_kinematics, update_frame_placements,
+    };
+
+    #[cfg(feature = "dynamics")]
+    pub use crate::dynamics::{
+        DynamicsData, DynamicsError, aba, crba, generalized_gravity, nonlinear_effects, rnea,
+    };
+
+    #[cfg(feature = "collision")]
+    pub use crate::collision::{
+        CollisionData, CollisionError, CollisionModel, CollisionOptions, ObstacleScene,
+        any_collision, compute_distances, compute_world_distances,
+    };
+
+    #[cfg(feature = "workspace")]
+    pub use crate::workspace::{ReachableError, ReachableParams, sample_reachable};
 }

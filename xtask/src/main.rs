@@ -25,7 +25,7 @@ tasks:
   test           every test: cargo test --workspace, then the Python package's pytest suite
   layers         check that each crate depends only on the layer directly below it
   tidy           reject should_panic and ignore test attributes anywhere in the tree
-  corpus <dir>   load every .urdf under <dir> and print one line per file
+  corpus [<dir>] load and round-trip every .urdf under <dir> (default: example-robot-data in .venv)
   ik-report      inverse-kinematics quality table (success %, times) on panda, ur5, kinova
   regress        compare against Pinocchio's reference values and print the table of worst errors
   bench          criterion baselines (not written yet)";

@@ -69,6 +69,16 @@
 //! [`CollisionError`] names the offending file, link, shape or obstacle; kinematics errors are
 //! wrapped.
 //!
+//! ## Modules
+//! - `model`: [`CollisionModel`]; [`build`]: building it from the model's geometry
+//!   ([`CollisionOptions`]); [`mesh`]: mesh files; `pairs`: candidate pairs; [`srdf`]: SRDF
+//!   disabled pairs; [`sampling`]: proposing pairs to disable.
+//! - `data`: [`CollisionData`] (shape poses, obstacles, results); `scene`: [`ObstacleScene`]
+//!   files; `pose`: conversions to parry's poses.
+//! - [`query`]: the queries; `narrow`: the narrow phase (closed forms, then `gjk`, the crate's
+//!   GJK/EPA, then parry).
+//! - `error`: [`CollisionError`].
+//!
 //! ## Optional cargo features
 //! None. Meshes are read by the crate's own small STL (binary and ASCII) and OBJ readers
 //! ([`mesh`]); COLLADA is not supported.

@@ -59,6 +59,17 @@
 //! built for another model, unknown links in external forces, and singular mass matrices
 //! (massless subtrees, naming the joints) are errors, never panics or NaN results.
 //!
+//! ## Modules
+//! - `data`: [`DynamicsData`], every buffer the algorithms write; `error`: [`DynamicsError`].
+//! - `rnea` (inverse dynamics, nonlinear effects, gravity), `crba` (the mass matrix), `aba`
+//!   (forward dynamics), `factor` (the tree-sparse `Lᵀ·D·L` of M and M⁻¹), `external`
+//!   ([`ExternalForces`]).
+//! - `com` (mass, centre of mass, centroidal momentum), `energy` (kinetic and potential).
+//! - `integrator` (fixed-step integration on the configuration manifold) and `limits` (joint
+//!   limits during a simulation).
+//! - [`derivatives`]: analytic derivatives of RNEA, gravity and ABA; [`exudyn`]: Exudyn-named
+//!   helpers; `all_terms`: every quantity of one state, for the tools.
+//!
 //! ## Optional cargo features
 //! None.
 

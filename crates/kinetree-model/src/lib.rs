@@ -60,7 +60,12 @@
 //! - [`urdf`]: URDF import (`urdf/read.rs`) and export (`urdf/write.rs`).
 //! - [`json`]: kinetree's JSON schema (`json/schema.rs`), import (`json/read.rs`) and export
 //!   (`json/write.rs`); [`units`]: the length and angle units of model files.
-//! - [`dh`]: Denavit–Hartenberg tables; [`samples`]: ready-made models.
+//! - [`dh`]: Denavit–Hartenberg tables; [`dh_json`]: DH tables as JSON files; [`samples`]:
+//!   ready-made models.
+//! - `checks` and `topology`: the builder's per-item checks and its tree check (roots,
+//!   depth-first order, cycles).
+//! - [`yapcad`]: yapCAD `KinematicChain` exports; [`datum`]: external datum frames;
+//!   [`state`]: joint values stored in model files.
 
 mod builder;
 mod checks;

@@ -38,6 +38,14 @@
 //!
 //! ## Optional cargo features
 //! - `serde`: `Serialize`/`Deserialize` for the value types.
+//!
+//! ## Modules
+//! - `se3`: [`Se3`], rigid transforms and their action on points, motions and forces.
+//! - [`rotation`]: skew matrices, the SO(3) exponential and logarithm, roll-pitch-yaw and Euler
+//!   angles; [`explog`]: the SE(3) exponential and logarithm.
+//! - `motion`: [`Motion`] and [`Force`]; `symmetric3`: [`Symmetric3`]; `inertia`: [`Inertia`].
+//! - The kernels the body sweeps share: `origin_inertia` ([`OriginInertia`]), `rotation_form`
+//!   ([`RotationForm`]) and [`axis`] (cross products with a coordinate axis).
 
 pub mod axis;
 pub mod explog;

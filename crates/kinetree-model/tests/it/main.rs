@@ -1,6 +1,5 @@
 //! Integration tests of the model layer.
 
-mod corpus;
 mod errors;
 mod reference;
 mod roots;
