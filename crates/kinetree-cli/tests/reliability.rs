@@ -223,3 +223,24 @@ fn inspect_output_grows_linearly_with_depth() {
     assert!(text.contains("[depth 2999] l2999"), "{}", &text[..2000]);
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn a_non_finite_joint_value_is_named_not_indexed() {
+    // `=NaN` used to say "value 0 is not finite": 0 was an index, not the value.
+    let o = kinetree(&["dynamics", &panda(), "--q", "panda_joint1=NaN", "--a", "0"]);
+    refused(&o, &["joint 'panda_joint1'", "position NaN is not a finite number"]);
+    assert!(!stderr(&o).contains("value 0"), "{}", stderr(&o));
+    let o = kinetree(&["dynamics", &panda(), "--v", "panda_joint2=-inf", "--a", "0"]);
+    refused(&o, &["joint 'panda_joint2'", "velocity -inf is not a finite number"]);
+    // In a multi-value joint the position is an ordinal of the joint's own values.
+    let o = kinetree(&[
+        "dynamics",
+        &panda(),
+        "--floating",
+        "--q",
+        "root_joint=0:0:0:0:0:inf:1",
+        "--a",
+        "0",
+    ]);
+    refused(&o, &["joint 'root_joint'", "inf", "value 6 of 7"]);
+}

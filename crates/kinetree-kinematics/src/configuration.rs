@@ -345,9 +345,20 @@ fn joint_block(
         });
     }
     if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+        // Name the value itself (NaN, inf, -inf); the position only matters for a joint that
+        // takes several values, and is then said as an ordinal, not as a bare index.
+        let which = if values.len() == 1 {
+            String::new()
+        } else {
+            format!(" (value {} of {})", i + 1, values.len())
+        };
         return Err(KinematicsError::InvalidJointValue {
             joint: name.to_string(),
-            reason: format!("value {i} is not finite"),
+            reason: format!(
+                "{} {} is not a finite number{which}",
+                if velocity { "velocity" } else { "position" },
+                values[i]
+            ),
         });
     }
     Ok(range)
