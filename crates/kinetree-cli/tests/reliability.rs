@@ -244,3 +244,41 @@ fn a_non_finite_joint_value_is_named_not_indexed() {
     ]);
     refused(&o, &["joint 'root_joint'", "inf", "value 6 of 7"]);
 }
+
+#[test]
+fn a_model_file_in_the_wrong_encoding_says_so() {
+    let dir = scratch("encoding");
+    let text = std::fs::read_to_string(panda()).unwrap();
+    // UTF-16 little-endian with a byte-order mark, as some Windows editors save.
+    let mut utf16 = vec![0xFF, 0xFE];
+    utf16.extend(text.encode_utf16().flat_map(u16::to_le_bytes));
+    let path = dir.join("utf16.urdf");
+    std::fs::write(&path, utf16).unwrap();
+    let o = kinetree(&["inspect", path.to_str().unwrap()]);
+    refused(&o, &["UTF-16", "must be UTF-8", "iconv"]);
+    assert!(!stderr(&o).contains("cannot access"), "{}", stderr(&o));
+    let path = dir.join("binary.json");
+    std::fs::write(&path, [b'{', 0xC3, 0x28, 0xFF, b'}']).unwrap();
+    let o = kinetree(&["inspect", path.to_str().unwrap()]);
+    refused(&o, &["not UTF-8 text", "offset 1"]);
+    assert!(!stderr(&o).contains("cannot access"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_xacro_file_is_recognised_and_the_expansion_suggested() {
+    let dir = scratch("xacro");
+    let with_property = r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:property name="l" value="0.5"/>
+  <link name="base"><visual><geometry><box size="${l} 1 1"/></geometry></visual></link>
+</robot>"#;
+    let path = dir.join("arm.urdf.xacro");
+    std::fs::write(&path, with_property).unwrap();
+    let o = kinetree(&["inspect", path.to_str().unwrap()]);
+    let expand = format!("`xacro {} > {}`", path.display(), dir.join("arm.urdf").display());
+    refused(&o, &["looks like a xacro file", "<xacro:property>", &expand]);
+    // Only an unexpanded expression left, no xacro element.
+    let path = dir.join("leftover.urdf");
+    std::fs::write(&path, with_property.replace("<xacro:property name=\"l\" value=\"0.5\"/>", "")).unwrap();
+    let o = kinetree(&["inspect", path.to_str().unwrap()]);
+    refused(&o, &["looks like a xacro file", "${l}", "expand it first"]);
+}

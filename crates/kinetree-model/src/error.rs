@@ -18,6 +18,14 @@ pub enum ModelError {
         /// The underlying error.
         source: std::io::Error,
     },
+    /// A model file is readable but is not UTF-8 text (UTF-16 from some editors, or binary).
+    #[error("{} is {reason}", path.display())]
+    Encoding {
+        /// The file.
+        path: PathBuf,
+        /// What the bytes look like and how to convert them.
+        reason: String,
+    },
     /// The XML is malformed (before any URDF interpretation).
     #[error("malformed XML{}: {message}", location(.file.as_deref(), *.line, *.column))]
     Xml {
@@ -434,4 +442,34 @@ impl ModelError {
             _ => &[],
         }
     }
+}
+
+/// Reads a model file as UTF-8 text, telling an encoding problem (UTF-16, binary) apart from a
+/// file that cannot be read.
+pub(crate) fn read_text(path: &std::path::Path) -> Result<String, ModelError> {
+    let bytes = std::fs::read(path).map_err(|source| ModelError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    String::from_utf8(bytes).map_err(|e| {
+        let bytes = e.as_bytes();
+        let utf16 = bytes.starts_with(&[0xFF, 0xFE])
+            || bytes.starts_with(&[0xFE, 0xFF])
+            // ASCII text in UTF-16 without a byte-order mark: every other byte is zero.
+            || (bytes.len() >= 4 && (bytes[1] == 0 && bytes[3] == 0 || bytes[0] == 0 && bytes[2] == 0));
+        let at = e.utf8_error().valid_up_to();
+        let reason = if utf16 {
+            format!(
+                "UTF-16 text, but model files must be UTF-8: convert it, e.g. `iconv -f UTF-16 -t UTF-8 {} > converted{}`",
+                path.display(),
+                path.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default()
+            )
+        } else {
+            format!("not UTF-8 text (invalid byte at offset {at}), but model files must be UTF-8")
+        };
+        ModelError::Encoding {
+            path: path.to_path_buf(),
+            reason,
+        }
+    })
 }

@@ -442,10 +442,7 @@ impl Model {
     /// [`Model::from_yapcad_str`], with the file named.
     pub fn from_yapcad_file(path: impl AsRef<Path>) -> Result<YapcadChain, ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::error::read_text(path)?;
         chain_from_text(&text, Some(path))
     }
 }

@@ -252,10 +252,7 @@ impl Model {
 }
 
 fn read_file(path: &Path) -> Result<String, ModelError> {
-    std::fs::read_to_string(path).map_err(|source| ModelError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    crate::error::read_text(path)
 }
 
 /// A JSON error without a position (a schema rule that serde cannot express).

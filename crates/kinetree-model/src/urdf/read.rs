@@ -34,10 +34,7 @@ impl Model {
     /// ```
     pub fn from_urdf_file(path: impl AsRef<Path>, root: RootJoint) -> Result<Model, ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::error::read_text(path)?;
         from_urdf(&text, &LoadOptions::from(root), Some(path.to_path_buf()))
     }
 
@@ -72,10 +69,7 @@ impl Model {
         options: &LoadOptions,
     ) -> Result<Model, ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::error::read_text(path)?;
         from_urdf(&text, options, Some(path.to_path_buf()))
     }
 
@@ -115,7 +109,14 @@ pub(crate) fn from_urdf(
     file: Option<PathBuf>,
 ) -> Result<Model, ModelError> {
     let root = options.root_joint;
-    let Scan { ignored, textures } = scan_xml(text, file.as_deref())?;
+    let Scan {
+        ignored,
+        textures,
+        xacro,
+    } = scan_xml(text, file.as_deref())?;
+    if let Some(element) = xacro {
+        return Err(xacro_error(file, &format!("it has a <{element}> element")));
+    }
     let sanitized;
     let text = if textures.is_empty() {
         text
@@ -123,9 +124,22 @@ pub(crate) fn from_urdf(
         sanitized = remove_ranges(text, &textures);
         sanitized.as_str()
     };
-    let robot = urdf_rs::read_from_string(text).map_err(|e| ModelError::Urdf {
-        file: file.clone(),
-        message: e.to_string(),
+    let robot = urdf_rs::read_from_string(text).map_err(|e| {
+        if text.contains("${") || text.contains("$(") {
+            // Unexpanded `${…}` or `$(arg …)` make urdf-rs complain about a number; the
+            // real problem is that nobody ran xacro.
+            xacro_error(
+                file.clone(),
+                &format!(
+                    "it has ${{…}} or $(…) expressions, and reading it as URDF fails with: {e}"
+                ),
+            )
+        } else {
+            ModelError::Urdf {
+                file: file.clone(),
+                message: e.to_string(),
+            }
+        }
     })?;
     let mut b = ModelBuilder::new(robot.name.clone());
     b.root_joint(root)
@@ -309,6 +323,8 @@ struct Scan {
     ignored: Vec<String>,
     /// Byte ranges of the `<texture>` elements, to be removed before urdf-rs parses the text.
     textures: Vec<std::ops::Range<usize>>,
+    /// The first `<xacro:…>` element, if any: the file is xacro source, not a URDF.
+    xacro: Option<String>,
 }
 
 /// Removes the byte ranges (sorted, disjoint) from `text`.
@@ -333,6 +349,7 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Scan, ModelError> {
     // Element names from the document root down to the current element.
     let mut stack: Vec<(String, Option<String>)> = Vec::new();
     let mut saw_robot = false;
+    let mut xacro = None;
     loop {
         let event_start = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
         let event = reader.read_event().map_err(|e| {
@@ -361,6 +378,9 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Scan, ModelError> {
         };
         let Some(s) = start else { continue };
         let tag = String::from_utf8_lossy(s.local_name().as_ref()).into_owned();
+        if xacro.is_none() && s.name().as_ref().starts_with(b"xacro:") {
+            xacro = Some(String::from_utf8_lossy(s.name().as_ref()).into_owned());
+        }
         let name = s
             .try_get_attribute("name")
             .ok()
@@ -408,7 +428,29 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Scan, ModelError> {
             message: "the document has no <robot> root element".into(),
         });
     }
-    Ok(Scan { ignored, textures })
+    Ok(Scan {
+        ignored,
+        textures,
+        xacro,
+    })
+}
+
+/// The error for xacro source given as a URDF: `why` says what gave it away.
+fn xacro_error(file: Option<PathBuf>, why: &str) -> ModelError {
+    let how = match &file {
+        Some(f) => {
+            let name = f.display().to_string();
+            let out = name.strip_suffix(".xacro").unwrap_or("expanded.urdf");
+            format!("`xacro {name} > {out}`")
+        }
+        None => "`xacro file.urdf.xacro > file.urdf`".into(),
+    };
+    ModelError::Urdf {
+        file,
+        message: format!(
+            "this looks like a xacro file, not a URDF ({why}): expand it first, e.g. {how}"
+        ),
+    }
 }
 
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
