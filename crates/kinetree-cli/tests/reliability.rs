@@ -228,10 +228,22 @@ fn inspect_output_grows_linearly_with_depth() {
 fn a_non_finite_joint_value_is_named_not_indexed() {
     // `=NaN` used to say "value 0 is not finite": 0 was an index, not the value.
     let o = kinetree(&["dynamics", &panda(), "--q", "panda_joint1=NaN", "--a", "0"]);
-    refused(&o, &["joint 'panda_joint1'", "position NaN is not a finite number"]);
+    refused(
+        &o,
+        &[
+            "joint 'panda_joint1'",
+            "position NaN is not a finite number",
+        ],
+    );
     assert!(!stderr(&o).contains("value 0"), "{}", stderr(&o));
     let o = kinetree(&["dynamics", &panda(), "--v", "panda_joint2=-inf", "--a", "0"]);
-    refused(&o, &["joint 'panda_joint2'", "velocity -inf is not a finite number"]);
+    refused(
+        &o,
+        &[
+            "joint 'panda_joint2'",
+            "velocity -inf is not a finite number",
+        ],
+    );
     // In a multi-value joint the position is an ordinal of the joint's own values.
     let o = kinetree(&[
         "dynamics",
@@ -274,11 +286,44 @@ fn a_xacro_file_is_recognised_and_the_expansion_suggested() {
     let path = dir.join("arm.urdf.xacro");
     std::fs::write(&path, with_property).unwrap();
     let o = kinetree(&["inspect", path.to_str().unwrap()]);
-    let expand = format!("`xacro {} > {}`", path.display(), dir.join("arm.urdf").display());
-    refused(&o, &["looks like a xacro file", "<xacro:property>", &expand]);
+    let expand = format!(
+        "`xacro {} > {}`",
+        path.display(),
+        dir.join("arm.urdf").display()
+    );
+    refused(
+        &o,
+        &["looks like a xacro file", "<xacro:property>", &expand],
+    );
     // Only an unexpanded expression left, no xacro element.
     let path = dir.join("leftover.urdf");
-    std::fs::write(&path, with_property.replace("<xacro:property name=\"l\" value=\"0.5\"/>", "")).unwrap();
+    std::fs::write(
+        &path,
+        with_property.replace("<xacro:property name=\"l\" value=\"0.5\"/>", ""),
+    )
+    .unwrap();
     let o = kinetree(&["inspect", path.to_str().unwrap()]);
     refused(&o, &["looks like a xacro file", "${l}", "expand it first"]);
+}
+
+#[test]
+fn sampling_a_workspace_with_huge_limits_never_blames_a_q_the_user_did_not_give() {
+    let dir = scratch("huge-limits");
+    let path = dir.join("rail.urdf");
+    std::fs::write(
+        &path,
+        r#"<robot name="rail"><link name="base"/>
+<link name="cart"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+<joint name="slide" type="prismatic"><parent link="base"/><child link="cart"/><axis xyz="1 0 0"/>
+<limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint></robot>"#,
+    )
+    .unwrap();
+    let p = path.to_str().unwrap();
+    // The samples are finite (the limit width 2e308 overflows, the limits do not); what cannot be
+    // done is binning points that far out into 2 cm voxels, and that is what is said.
+    let o = kinetree(&["workspace", p, "--frame", "cart", "--samples", "100"]);
+    refused(&o, &["voxel size 0.02 m is too small"]);
+    assert!(!stderr(&o).contains("q[0]"), "{}", stderr(&o));
+    let o = kinetree(&["workspace", p, "--frame", "cart", "--grid", "3"]);
+    refused(&o, &["voxel size 0.02 m is too small"]);
 }

@@ -92,7 +92,12 @@ pub fn random_configuration<R: Rng + ?Sized>(
     q: &mut [f64],
 ) -> Result<(), KinematicsError> {
     check_len("q", q, model.nq())?;
-    let uniform = |(lo, hi): (f64, f64), rng: &mut R| lo + (hi - lo) * rng.random::<f64>();
+    // Interpolated as lo·(1 − t) + hi·t, not lo + (hi − lo)·t: the width of limits such as
+    // ±1e308 overflows to infinity, while every term here stays within the limits.
+    let uniform = |(lo, hi): (f64, f64), rng: &mut R| {
+        let t = rng.random::<f64>();
+        lo * (1.0 - t) + hi * t
+    };
     for b in model.bodies().iter().skip(1).filter(|b| b.mimic.is_none()) {
         let lim = &model.joint(b.joint.unwrap_or(0)).limits;
         let qi = &mut q[b.idx_q..b.idx_q + b.nq];

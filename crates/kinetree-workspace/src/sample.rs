@@ -35,10 +35,12 @@ impl Axis {
     #[inline]
     fn value(&self, d: usize, k: usize) -> f64 {
         if k == 1 {
-            return 0.5 * (self.lo + self.hi);
+            return 0.5 * self.lo + 0.5 * self.hi;
         }
         let steps = if self.periodic { k } else { k - 1 };
-        self.lo + (self.hi - self.lo) * d as f64 / steps as f64
+        // lo·(1 − t) + hi·t stays finite for any finite limits (hi − lo may overflow).
+        let t = d as f64 / steps as f64;
+        self.lo * (1.0 - t) + self.hi * t
     }
 }
 
