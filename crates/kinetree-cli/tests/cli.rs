@@ -647,6 +647,24 @@ fn bench_prints_stable_json_keys() {
             "{key}"
         );
     }
+    // The like-for-like cases again, under the names of Pinocchio's anchor benchmark.
+    for (ours, theirs) in [
+        ("fk_frames", "fk+frames"),
+        ("joint_jacobians", "jacobians"),
+        ("rnea", "rnea"),
+        ("nle", "nle"),
+        ("crba", "crba"),
+        ("aba", "aba"),
+        ("minv", "minverse"),
+        ("rnea_derivatives", "rnea_derivatives"),
+        ("aba_derivatives", "aba_derivatives"),
+    ] {
+        assert_eq!(
+            v["pinocchio_ns_per_call"][theirs], v["ns_per_call"][ours],
+            "{theirs}"
+        );
+    }
+    assert_eq!(v["pinocchio_ns_per_call"].as_object().unwrap().len(), 9);
 }
 
 #[test]

@@ -9,6 +9,11 @@
 //! "collision_distances"}}` (the collision keys
 //! only for models with collision geometry; meshes are looked up next to the model file and
 //! skipped when missing); the keys stay stable so scripts can compare runs.
+//! `"pinocchio_ns_per_call"` repeats the like-for-like timings under the names of Pinocchio's
+//! anchor benchmark (`fk+frames`, `jacobians`, `rnea`, `nle`, `crba`, `aba`, `minverse`,
+//! `rnea_derivatives`, `aba_derivatives`), so a side-by-side script needs no mapping. kinetree's
+//! `fk` also places every link, so it has no Pinocchio twin (Pinocchio's `fk` places the joints
+//! only); its `fk_frames` is Pinocchio's `fk+frames`.
 //! Velocities, accelerations and torques are drawn uniformly in [-1, 1].
 
 use anyhow::Result;
@@ -53,6 +58,20 @@ pub(crate) struct Args {
     #[arg(long)]
     no_limit: bool,
 }
+
+/// kinetree's timings that time the same work as a case of Pinocchio's anchor benchmark, with
+/// that case's name there.
+const PINOCCHIO_NAMES: [(&str, &str); 9] = [
+    ("fk_frames", "fk+frames"),
+    ("joint_jacobians", "jacobians"),
+    ("rnea", "rnea"),
+    ("nle", "nle"),
+    ("crba", "crba"),
+    ("aba", "aba"),
+    ("minv", "minverse"),
+    ("rnea_derivatives", "rnea_derivatives"),
+    ("aba_derivatives", "aba_derivatives"),
+];
 
 /// The most calls per algorithm (warm-up included) run without --no-limit.
 const MAX_CALLS: usize = 1_000_000_000;
@@ -271,7 +290,16 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             .iter()
             .map(|(k, v)| ((*k).to_string(), serde_json::json!(v)))
             .collect();
-        let out = serde_json::json!({"model": model.name(), "nq": model.nq(), "nv": model.nv(), "ns_per_call": map});
+        let pinocchio: serde_json::Map<String, serde_json::Value> = PINOCCHIO_NAMES
+            .iter()
+            .filter_map(|(ours, theirs)| {
+                results
+                    .iter()
+                    .find(|(k, _)| k == ours)
+                    .map(|(_, v)| ((*theirs).to_string(), serde_json::json!(v)))
+            })
+            .collect();
+        let out = serde_json::json!({"model": model.name(), "nq": model.nq(), "nv": model.nv(), "ns_per_call": map, "pinocchio_ns_per_call": pinocchio});
         outln!("{out}")?;
     } else {
         outln!(
