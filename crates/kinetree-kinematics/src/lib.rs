@@ -52,8 +52,21 @@
 //! ## Errors
 //! [`KinematicsError`] names the offending input, joint or frame; wrong lengths and NaN inputs are
 //! errors, never panics.
+//!
+//! ## Modules
+//! - `data`: [`KinematicsData`] and [`FrameId`]; `error`: [`KinematicsError`].
+//! - [`joint`]: the per-joint algebra (models, transforms, the Lie-group operations and their
+//!   Jacobians), shared with the dynamics layer.
+//! - `forward`: forward kinematics with velocities and accelerations, frame placements;
+//!   `jacobian`: joint and frame Jacobians and their time derivatives; [`derivatives`]: their
+//!   analytic derivatives; [`configuration`]: configuration-space operations.
+//! - [`ik`]: the [`IkSolver`](ik::IkSolver) (`solver.rs`, one iteration in `step.rs`, its buffers
+//!   in `scratch.rs`) and analytic seeders.
+//! - `chain` and `chain_datums`: [`Chain`] and its files; `actuation`: actuation groups
+//!   (`group.rs`), [`ActuatedChain`] (`chain.rs`), [`LinearActuator`] and actuated IK.
+//! - [`codegen`]: forward kinematics as source code.
 
-mod actuated_ik;
+mod actuation;
 mod chain;
 mod chain_datums;
 pub mod codegen;
@@ -62,12 +75,15 @@ mod data;
 pub mod derivatives;
 mod error;
 mod forward;
-mod group;
 pub mod ik;
 mod jacobian;
 pub mod joint;
 
-pub use actuated_ik::{ActuatedIkReport, ActuationArgs, ArgActuation};
+pub use actuation::{
+    ActuatedChain, Actuation, ActuationGroup, FnActuation, GroupSpec, LinearActuator,
+    MappingDirection, ROUND_TRIP_TOLERANCE,
+};
+pub use actuation::{ActuatedIkReport, ActuationArgs, ArgActuation};
 pub use chain::{Chain, ChainStats};
 pub use data::{BodyBuffers, FrameId, KinematicsData};
 pub use derivatives::{
@@ -79,10 +95,6 @@ pub use error::{KinematicsError, QUATERNION_NORM_TOLERANCE};
 pub use forward::{
     forward_kinematics, forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
     frame_velocity, relative_transform, update_frame_placements, update_world_placements,
-};
-pub use group::{
-    ActuatedChain, Actuation, ActuationGroup, FnActuation, GroupSpec, LinearActuator,
-    MappingDirection, ROUND_TRIP_TOLERANCE,
 };
 pub use jacobian::{
     ReferenceFrame, change_reference, compute_frame_jacobian, compute_joint_jacobians,

@@ -49,7 +49,9 @@ mod analytic;
 mod cholesky;
 mod params;
 mod report;
+mod scratch;
 mod solver;
+mod step;
 mod target;
 
 pub use analytic::{IkSeeder, PlanarTwoLink, TwoLinkSeeder, TwoLinkSolutions};

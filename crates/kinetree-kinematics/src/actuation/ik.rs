@@ -1,8 +1,8 @@
 //! trip_kinematics' runtime mapping arguments and inverse kinematics through an
 //! [`ActuatedChain`], answered in actuated coordinates.
 
+use super::{ActuatedChain, Actuation};
 use crate::error::KinematicsError;
-use crate::group::{ActuatedChain, Actuation};
 use crate::ik::{IkSolver, IkStatus, IkTarget};
 use std::fmt;
 use std::sync::{Arc, PoisonError, RwLock};
