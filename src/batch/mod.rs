@@ -24,7 +24,10 @@
 //! `gravity_torque`, `mass_matrix` (nv x nv, row-major), `com`, `total_mass` (the moving
 //! bodies'), `potential_energy`; with `v`: `nle`, `kinetic_energy`, `centroidal_momentum`; with
 //! `v` and `a`: `rnea`; with `v` and `tau`: `aba`. Vectors are in the model's `v` order, and
-//! `by_joint` repeats them keyed by joint name. A quantity that is undefined for a sample (`aba`
+//! `by_joint` repeats them keyed by joint name. With [`BatchOptions::derivatives`] a sample also
+//! gets `derivatives`: `{"gravity": {"dg_dq"}, "rnea": {"dtau_dq", "dtau_dv", "dtau_da"} (with
+//! v and a), "aba": {"dddq_dq", "dddq_dv", "dddq_dtau"} (with v and tau)}`, each `nv` rows of
+//! `nv` ([`DerivativesOutput`]). A quantity that is undefined for a sample (`aba`
 //! with a singular mass matrix) is `null`, with an `errors` entry saying why; the rest of the
 //! sample is still computed.
 //!
@@ -50,12 +53,15 @@ mod types;
 
 #[cfg(feature = "collision")]
 pub use types::PairDistance;
+#[cfg(feature = "dynamics")]
+pub use types::{
+    AbaDerivativesOutput, DerivativesOutput, DynamicsOutput, GravityDerivativesOutput,
+    QuantityError, RneaDerivativesOutput,
+};
 pub use types::{
     BatchOutput, JointSummary, JointValue, ModelSummary, NamedValues, Placement, SampleInput,
     SampleOutput, SampleState,
 };
-#[cfg(feature = "dynamics")]
-pub use types::{DynamicsOutput, QuantityError};
 
 use crate::Error;
 use crate::kinematics::configuration::{Space, from_named};
@@ -89,6 +95,9 @@ pub struct BatchOptions {
     pub frames: FrameSelection,
     /// Skip the dynamics quantities even when the inputs allow them.
     pub no_dynamics: bool,
+    /// With the `dynamics` feature, add each sample's analytic [`DerivativesOutput`] (those its
+    /// inputs allow); ignored with `no_dynamics`.
+    pub derivatives: bool,
     /// Require a value for every moving joint in each given `q`, `v`, `a`, `tau` (and a `q` in
     /// every sample); by default a joint left out is neutral (`q`) or zero.
     pub strict: bool,
@@ -229,6 +238,10 @@ pub fn evaluate(
             crate::dynamics::JointTerms::Ignored
         },
     );
+    #[cfg(feature = "dynamics")]
+    let mut derivatives_data = options.derivatives.then(|| {
+        crate::dynamics::DerivativesData::with_joint_terms(model, dynamics_data.joint_terms())
+    });
     let mut out = Vec::with_capacity(samples.len());
     for (index, sample) in samples.iter().enumerate() {
         let in_sample = |source: Error| Error::Sample {
@@ -292,7 +305,10 @@ pub fn evaluate(
         let dynamics = if options.no_dynamics {
             None
         } else {
-            Some(dynamics::compute(model, &mut dynamics_data, &input).map_err(in_sample)?)
+            Some(
+                dynamics::compute(model, &mut dynamics_data, derivatives_data.as_mut(), &input)
+                    .map_err(in_sample)?,
+            )
         };
         out.push(SampleOutput {
             link_poses,
@@ -328,9 +344,15 @@ mod dynamics {
     //! The dynamics quantities of a sample: what the inputs allow (q: gravity, mass matrix, COM;
     //! with v: nle, energy, momentum; with a: rnea; with tau: aba).
 
-    use super::{DynamicsOutput, QuantityError, SampleState, by_joint};
+    use super::{
+        AbaDerivativesOutput, DerivativesOutput, DynamicsOutput, GravityDerivativesOutput,
+        QuantityError, RneaDerivativesOutput, SampleState, by_joint,
+    };
     use crate::Error;
-    use crate::dynamics::{DynamicsData, DynamicsError, compute_all_terms};
+    use crate::dynamics::{
+        DerivativesData, DynamicsData, DynamicsError, aba_derivatives, compute_all_terms,
+        generalized_gravity_derivatives, rnea_derivatives,
+    };
     use crate::model::Model;
     use std::collections::BTreeMap;
 
@@ -349,9 +371,55 @@ mod dynamics {
         }
     }
 
+    /// An `nv x nv` row-major matrix as `nv` rows.
+    fn rows(nv: usize, m: &[f64]) -> Vec<Vec<f64>> {
+        m.chunks(nv.max(1)).take(nv).map(<[f64]>::to_vec).collect()
+    }
+
+    /// The analytic derivatives the sample's inputs allow: gravity always, inverse dynamics with
+    /// `v` and `a`, forward dynamics with `v` and `tau` (`None` with an error when `M` is
+    /// singular).
+    fn derivatives(
+        model: &Model,
+        data: &mut DerivativesData,
+        input: &SampleState,
+        errors: &mut Vec<QuantityError>,
+    ) -> Result<DerivativesOutput, Error> {
+        let nv = model.nv();
+        let q = &input.q;
+        let gravity = GravityDerivativesOutput {
+            dg_dq: rows(nv, generalized_gravity_derivatives(model, data, q)?),
+        };
+        let rnea = match (&input.v, &input.a) {
+            (Some(v), Some(a)) => {
+                let d = rnea_derivatives(model, data, q, v, a)?;
+                Some(RneaDerivativesOutput {
+                    dtau_dq: rows(nv, d.dtau_dq),
+                    dtau_dv: rows(nv, d.dtau_dv),
+                    dtau_da: rows(nv, d.dtau_da),
+                })
+            }
+            _ => None,
+        };
+        let aba = match (&input.v, &input.tau) {
+            (Some(v), Some(tau)) => Some(defined(
+                errors,
+                "aba_derivatives",
+                aba_derivatives(model, data, q, v, tau).map(|d| AbaDerivativesOutput {
+                    dddq_dq: rows(nv, d.dddq_dq),
+                    dddq_dv: rows(nv, d.dddq_dv),
+                    dddq_dtau: rows(nv, d.dddq_dtau),
+                }),
+            )),
+            _ => None,
+        };
+        Ok(DerivativesOutput { rnea, gravity, aba })
+    }
+
     pub(super) fn compute(
         model: &Model,
         data: &mut DynamicsData,
+        derivatives_data: Option<&mut DerivativesData>,
         input: &SampleState,
     ) -> Result<DynamicsOutput, Error> {
         let zeros = vec![0.0; model.nv()];
@@ -383,22 +451,27 @@ mod dynamics {
         if let Some(Some(ddq)) = &aba {
             by.insert("aba", by_joint(model, ddq));
         }
+        let mass_matrix = rows(nv, &t.mass_matrix);
+        let gravity_torque = t.gravity_torque;
+        let nle = with_v.then(|| t.nle.clone());
+        let (moving_mass, potential_energy, kinetic_energy) =
+            (t.moving_mass, t.potential_energy, t.kinetic_energy);
+        let derivatives = match derivatives_data {
+            Some(d) => Some(derivatives(model, d, input, &mut errors)?),
+            None => None,
+        };
         Ok(DynamicsOutput {
-            mass_matrix: t
-                .mass_matrix
-                .chunks(nv.max(1))
-                .take(nv)
-                .map(<[f64]>::to_vec)
-                .collect(),
+            mass_matrix,
             com,
-            moving_mass: t.moving_mass,
-            potential_energy: t.potential_energy,
-            nle: with_v.then(|| t.nle.clone()),
-            kinetic_energy: with_v.then_some(t.kinetic_energy),
+            moving_mass,
+            potential_energy,
+            nle,
+            kinetic_energy: with_v.then_some(kinetic_energy),
             centroidal_momentum,
             rnea,
             aba,
-            gravity_torque: t.gravity_torque,
+            gravity_torque,
+            derivatives,
             by_joint: by,
             errors,
         })

@@ -249,6 +249,10 @@ pub struct DynamicsOutput {
     /// Forward dynamics `q̈(q, v, τ)`, with `v` and `tau`.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub aba: Option<Option<Vec<f64>>>,
+    /// The analytic derivatives, when asked for
+    /// ([`BatchOptions::derivatives`](crate::batch::BatchOptions::derivatives)).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub derivatives: Option<DerivativesOutput>,
     /// The joint-space vectors above (`gravity_torque`, `nle`, `rnea`, `aba`) keyed by joint name.
     pub by_joint: BTreeMap<&'static str, NamedValues>,
     /// Why a quantity is undefined.
@@ -256,12 +260,65 @@ pub struct DynamicsOutput {
     pub errors: Vec<QuantityError>,
 }
 
+/// The analytic derivatives of one sample (see [`crate::dynamics::derivatives`] for the
+/// tangent-space convention): each matrix is `nv` rows of `nv`, rows and columns in the model's
+/// `v` order.
+#[cfg(feature = "dynamics")]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct DerivativesOutput {
+    /// Of inverse dynamics, with `v` and `a`.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub rnea: Option<RneaDerivativesOutput>,
+    /// Of the generalized gravity.
+    pub gravity: GravityDerivativesOutput,
+    /// Of forward dynamics, with `v` and `tau`; `Some(None)` (`null`) when `M` is singular, with
+    /// an `aba_derivatives` entry in the sample's `errors`.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub aba: Option<Option<AbaDerivativesOutput>>,
+}
+
+/// The derivatives of `τ = rnea(q, v, a)`.
+#[cfg(feature = "dynamics")]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct RneaDerivativesOutput {
+    /// `∂τ/∂q` (tangent space).
+    pub dtau_dq: Vec<Vec<f64>>,
+    /// `∂τ/∂v`.
+    pub dtau_dv: Vec<Vec<f64>>,
+    /// `∂τ/∂a = M(q)`.
+    pub dtau_da: Vec<Vec<f64>>,
+}
+
+/// The derivative of the generalized gravity `g(q)`.
+#[cfg(feature = "dynamics")]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct GravityDerivativesOutput {
+    /// `∂g/∂q` (tangent space).
+    pub dg_dq: Vec<Vec<f64>>,
+}
+
+/// The derivatives of `q̈ = aba(q, v, τ)`.
+#[cfg(feature = "dynamics")]
+#[derive(Debug)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct AbaDerivativesOutput {
+    /// `∂q̈/∂q` (tangent space).
+    pub dddq_dq: Vec<Vec<f64>>,
+    /// `∂q̈/∂v`.
+    pub dddq_dv: Vec<Vec<f64>>,
+    /// `∂q̈/∂τ = M(q)⁻¹`.
+    pub dddq_dtau: Vec<Vec<f64>>,
+}
+
 /// Why one dynamics quantity of a sample is undefined.
 #[cfg(feature = "dynamics")]
 #[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct QuantityError {
-    /// The quantity (`"com"`, `"centroidal_momentum"`, `"aba"`).
+    /// The quantity (`"com"`, `"centroidal_momentum"`, `"aba"`, `"aba_derivatives"`).
     pub quantity: &'static str,
     /// The dynamics layer's error (written as its message).
     #[cfg_attr(feature = "serde", serde(serialize_with = "display"))]

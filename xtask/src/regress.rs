@@ -135,6 +135,8 @@ pub(crate) fn check_robot(root: &Path, file: &Path) -> Result<Vec<Row>> {
         jacobians: jacobian_links.clone(),
         frames: kinetree::batch::FrameSelection::None,
         no_dynamics: false,
+        // The derivatives have their own check (regress_derivatives).
+        derivatives: false,
         // The reference ignores URDF <dynamics> damping and friction, as Pinocchio does.
         joint_dynamics: false,
         strict: true,

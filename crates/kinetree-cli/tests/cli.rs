@@ -425,6 +425,111 @@ fn max_difference(a: &serde_json::Value, b: &serde_json::Value) -> f64 {
 }
 
 #[test]
+fn compute_derivatives_match_pinocchio() {
+    // Pinocchio 4.1's computeRNEADerivatives / computeGeneralizedGravityDerivatives /
+    // computeABADerivatives on a fixed base (panda) and a floating base (solo12); the reference
+    // file is the request itself (its samples wrap q, v, a, tau in "state").
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/reference");
+    for robot in ["panda", "solo12"] {
+        let states = dir.join(format!("derivatives/{robot}.json"));
+        let reference: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&states).unwrap()).unwrap();
+        let main: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.join(format!("{robot}.json"))).unwrap(),
+        )
+        .unwrap();
+        let urdf = dir
+            .join("derivatives")
+            .join(reference["urdf"].as_str().unwrap());
+        let out = scratch(&format!("derivatives-{robot}")).join("result.json");
+        let mut args = vec![
+            "compute",
+            urdf.to_str().unwrap(),
+            "--states",
+            states.to_str().unwrap(),
+            "--derivatives",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if reference["root_joint"] != "fixed" {
+            args.push("--floating");
+        }
+        let o = kinetree(&args);
+        assert!(o.status.success(), "{robot}: {}", stderr(&o));
+        let result: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        // Our v index of each of Pinocchio's.
+        let nv = result["model"]["nv"].as_u64().unwrap() as usize;
+        let mut ours_of = vec![usize::MAX; nv];
+        for j in reference["joints"].as_array().unwrap() {
+            let mine = result["model"]["joints"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|m| m["name"] == j["name"])
+                .unwrap();
+            for k in 0..j["nv"].as_u64().unwrap() as usize {
+                ours_of[j["idx_v"].as_u64().unwrap() as usize + k] =
+                    mine["idx_v"].as_u64().unwrap() as usize + k;
+            }
+        }
+        assert!(ours_of.iter().all(|&k| k < nv), "{robot}");
+        let samples = result["samples"].as_array().unwrap();
+        let expected = reference["samples"].as_array().unwrap();
+        assert_eq!(samples.len(), expected.len(), "{robot}");
+        let mut compared = 0;
+        for (i, (ours, theirs)) in samples.iter().zip(expected).enumerate() {
+            let cond = main["samples"][i]["mass_matrix_cond"].as_f64().unwrap();
+            for (group, keys) in [
+                ("rnea", &["dtau_dq", "dtau_dv", "dtau_da"]),
+                ("gravity", &["dg_dq", "dg_dq", "dg_dq"]),
+                ("aba", &["dddq_dq", "dddq_dv", "dddq_dtau"]),
+            ] {
+                if theirs[group].is_null() {
+                    assert!(ours["derivatives"][group].is_null(), "{robot} {i} {group}");
+                    continue;
+                }
+                for key in keys {
+                    let m = &ours["derivatives"][group][key];
+                    let permuted: Vec<Vec<f64>> = ours_of
+                        .iter()
+                        .map(|&r| ours_of.iter().map(|&c| m[r][c].as_f64().unwrap()).collect())
+                        .collect();
+                    let reference = &theirs[group][key];
+                    let d = max_difference(&serde_json::json!(permuted), reference);
+                    let tol = if group == "aba" {
+                        1e-8 * (cond / 1e3).max(1.0)
+                    } else {
+                        1e-8
+                    };
+                    assert!(
+                        d <= tol * max_abs(reference).max(1.0),
+                        "{robot} sample {i}: {group}.{key} differs by {d:e}"
+                    );
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared >= 7 * expected.len(), "{robot}: {compared}");
+    }
+    // --help names every key.
+    let help = stdout(&kinetree(&["compute", "--help"]));
+    for key in [
+        "--derivatives",
+        "derivatives",
+        "dg_dq",
+        "dtau_dq",
+        "dtau_dv",
+        "dtau_da",
+        "dddq_dq",
+        "dddq_dv",
+        "dddq_dtau",
+    ] {
+        assert!(help.contains(key), "--help does not mention {key}");
+    }
+}
+
+#[test]
 fn joint_dynamics_are_opt_in_for_compute_and_dynamics() {
     // A damped pendulum (d = 2 N·m·s/rad, μ = 0.5 N·m) about y, its 1 kg bob 0.5 m along x. At rest
     // gravity needs τ = -4.905 N·m; at v = 1 rad/s the joint terms add d·v + μ = 2.5 N·m.

@@ -34,6 +34,11 @@ with, per sample (vectors in the model's v order, matrices row-major):
   centroidal_momentum  with v: [linear; angular] about the centre of mass
   rnea               with v and a: τ = M·a + C·v + g
   aba                with v and tau: q̈ = M⁻¹·(τ - C·v - g), null when M is singular
+  derivatives        with --derivatives, each matrix nv x nv (rows of nv), tangent space in q:
+    gravity          {dg_dq}: ∂g/∂q
+    rnea             with v and a: {dtau_dq, dtau_dv, dtau_da}: ∂τ/∂q, ∂τ/∂v, ∂τ/∂a = M
+    aba              with v and tau: {dddq_dq, dddq_dv, dddq_dtau}: ∂q̈/∂q, ∂q̈/∂v, ∂q̈/∂τ = M⁻¹,
+                     null when M is singular
   by_joint           gravity_torque, nle, rnea, aba again, keyed by joint name
   errors             why a quantity is null
   units              with --units mm-deg: {\"length\": \"mm\", \"angle\": \"deg\"}; translations and com in mm
@@ -71,6 +76,10 @@ pub(crate) struct Args {
     /// the defaults existed; by default a joint left out is neutral (q) or zero.
     #[arg(long)]
     strict: bool,
+    /// Add `derivatives` to each sample: the analytic derivatives of gravity, and of inverse
+    /// (with v and a) and forward dynamics (with v and tau).
+    #[arg(long)]
+    derivatives: bool,
     /// Add `collision` to each sample: the minimum signed distance of every candidate link pair.
     #[arg(long)]
     collision: bool,
@@ -121,6 +130,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             names => FrameSelection::Named(names.to_vec()),
         },
         no_dynamics: false,
+        derivatives: args.derivatives,
         strict: args.strict,
         joint_dynamics: args.joint_dynamics,
         collision: args.collision.then(|| {
