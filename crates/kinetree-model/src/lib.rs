@@ -66,10 +66,13 @@
 //!   depth-first order, cycles).
 //! - [`yapcad`]: yapCAD `KinematicChain` exports; [`datum`]: external datum frames;
 //!   [`state`]: joint values stored in model files.
+//! - [`composite`]: composite joints (a product of elementary axis factors, as
+//!   trip_kinematics' `Transformation`).
 
 mod builder;
 mod checks;
 mod compare;
+pub mod composite;
 pub mod datum;
 pub mod dh;
 pub mod dh_json;
