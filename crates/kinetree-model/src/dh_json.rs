@@ -26,7 +26,8 @@
 //!   defaulting to 0). With the modified convention a row's `a` and `alpha` are `aᵢ₋₁`, `αᵢ₋₁`.
 //! - `convention`: `"standard"` (default) or `"modified"`; `units`: as in kinetree's JSON
 //!   models (`length` m, cm or mm; `angle` rad or deg; default SI); `base`: the base link's name;
-//!   `tool`: the pose of a `tool` frame in the last DH frame (`xyz`, `rpy`).
+//!   `tool`: the pose of a `tool` frame in the last DH frame (`xyz`, `rpy`); `name`: the model's
+//!   name, empty when left out (as in kinetree's JSON models and a URDF `<robot>`).
 //!
 //! Unknown fields are errors. [`Model::from_file`](crate::Model::from_file) and
 //! [`Model::from_json_str`](crate::Model::from_json_str) recognise a document with a `dh` array

@@ -2,7 +2,8 @@
 //!
 //! # Schema
 //!
-//! A model file is one JSON object. Every field except the names is optional; unknown fields are
+//! A model file is one JSON object. Every field except the names of links, joints and frames is
+//! optional (the model's own `name` too, as in a URDF `<robot>` or a DH table); unknown fields are
 //! an error, so a typo never goes unnoticed.
 //!
 //! ```json
@@ -38,6 +39,7 @@
 //! ```
 //!
 //! - `version`: the schema version, 1 (written on export).
+//! - `name`: the model's name, empty when left out.
 //! - `units`: `length` is `"m"` (default), `"cm"` or `"mm"`; `angle` is `"rad"` (default) or
 //!   `"deg"`. Values are converted to SI on load and back on export. Lengths are: translations
 //!   of every origin, centres of mass, geometry sizes, prismatic limits, velocities and
