@@ -223,7 +223,7 @@ pub fn evaluate(
             let cmodel = crate::collision::CollisionModel::from_model(model, o)?;
             let cdata = crate::collision::CollisionData::new(&cmodel);
             for skipped in cmodel.skipped_meshes() {
-                summary.skipped_meshes.push(format!("{skipped:?}"));
+                summary.skipped_meshes.push(skipped.to_string());
             }
             Some((cmodel, cdata))
         }

@@ -327,3 +327,42 @@ fn sampling_a_workspace_with_huge_limits_never_blames_a_q_the_user_did_not_give(
     let o = kinetree(&["workspace", p, "--frame", "cart", "--grid", "3"]);
     refused(&o, &["voxel size 0.02 m is too small"]);
 }
+
+#[test]
+fn skipped_meshes_are_listed_one_readable_line_each() {
+    let dir = scratch("skipped-meshes");
+    let path = dir.join("m.urdf");
+    std::fs::write(
+        &path,
+        r#"<robot name="m"><link name="base"><collision><geometry><mesh filename="nowhere/gone.stl"/></geometry></collision></link>
+<link name="arm"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial><collision><geometry><sphere radius="0.1"/></geometry></collision></link>
+<joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#,
+    )
+    .unwrap();
+    let states = dir.join("states.json");
+    std::fs::write(&states, r#"{"samples":[{}]}"#).unwrap();
+    let p = path.to_str().unwrap();
+    for o in [
+        kinetree(&["collide", p, "--skip-missing-meshes"]),
+        kinetree(&[
+            "compute",
+            p,
+            "--states",
+            states.to_str().unwrap(),
+            "--collision",
+            "--skip-missing-meshes",
+        ]),
+    ] {
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(0), "{err}");
+        let lines: Vec<&str> = err.lines().filter(|l| l.contains("gone.stl")).collect();
+        assert_eq!(lines.len(), 1, "{err}");
+        assert!(
+            lines[0].starts_with(
+                "skipped mesh: mesh 'nowhere/gone.stl' (link 'base', collision 0) left out: "
+            ),
+            "{err}"
+        );
+        assert!(!err.contains("SkippedMesh"), "{err}");
+    }
+}

@@ -116,6 +116,17 @@ pub struct SkippedMesh {
     pub reason: String,
 }
 
+/// One readable line: `mesh 'arm.stl' (link 'l', collision 0) left out: reason`.
+impl core::fmt::Display for SkippedMesh {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "mesh '{}' (link '{}', collision {}) left out: {}",
+            self.filename, self.link, self.element, self.reason
+        )
+    }
+}
+
 /// The collision shapes of a model and the pairs to test, after Pinocchio's `GeometryModel`.
 ///
 /// Build it with [`CollisionModel::from_model`]; create a [`CollisionData`](crate::CollisionData)

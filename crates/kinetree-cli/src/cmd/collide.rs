@@ -62,7 +62,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         )
     })?;
     for skipped in cmodel.skipped_meshes() {
-        eprintln!("skipped mesh: {skipped:?}");
+        eprintln!("skipped mesh: {skipped}");
     }
     let mut data = CollisionData::new(&cmodel);
     if let Some(path) = &args.obstacles {
