@@ -6,7 +6,7 @@
 
 use crate::errors::{Family, family_of, to_py};
 use crate::model::PyModel;
-use kinetree::dynamics::{DynamicsData, JointTerms};
+use kinetree::dynamics::{DerivativesData, DynamicsData, JointTerms};
 use kinetree::model::Model;
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{AllowTypeChange, IntoPyArray, PyArrayLikeDyn, PyUntypedArrayMethods};
@@ -150,6 +150,74 @@ pub(crate) fn batch_count(inputs: &[&States], family: Family) -> PyResult<Option
 /// left out, as in Pinocchio and the contract).
 pub(crate) fn new_data(model: &Model) -> DynamicsData {
     DynamicsData::with_joint_terms(model, JointTerms::Ignored)
+}
+
+/// A fresh workspace for the analytic derivatives, rigid-body as [`new_data`].
+pub(crate) fn new_derivatives_data(model: &Model) -> DerivativesData {
+    DerivativesData::with_joint_terms(model, JointTerms::Ignored)
+}
+
+/// As [`run`] for the analytic derivatives: `f(data, states, out)` fills `parts` matrices of
+/// `nv x nv` one after the other in `out`; returns them as `parts` arrays of shape `(nv, nv)`,
+/// or `(N, nv, nv)` for a stack (computed in parallel with the GIL released).
+pub(crate) fn run_derivatives<'py, F>(
+    py: Python<'py>,
+    model: &PyModel,
+    inputs: &[&States],
+    parts: usize,
+    family: Family,
+    f: F,
+) -> PyResult<Vec<Bound<'py, numpy::PyArrayDyn<f64>>>>
+where
+    F: Fn(&mut DerivativesData, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+{
+    let nv = model.model.nv();
+    let size = nv * nv;
+    let slices = |i: usize| -> [&[f64]; 4] {
+        let mut s: [&[f64]; 4] = [&[]; 4];
+        for (k, input) in inputs.iter().enumerate().take(4) {
+            s[k] = input.state(i);
+        }
+        s
+    };
+    let n_in = inputs.len();
+    let count = batch_count(inputs, family)?;
+    let n = count.unwrap_or(1);
+    let mut out = vec![0.0; n * parts * size];
+    match count {
+        None => model
+            .with_derivatives_scratch(|data| f(data, &slices(0)[..n_in], &mut out))
+            .map_err(|e| to_py(&e, false))?,
+        Some(_) => {
+            let m: &Model = &model.model;
+            let result = py.detach(|| {
+                out.par_chunks_mut((parts * size).max(1))
+                    .enumerate()
+                    .try_for_each_init(
+                        || new_derivatives_data(m),
+                        |data, (i, chunk)| {
+                            f(data, &slices(i)[..n_in], chunk).map_err(|e| Box::new((i, e)))
+                        },
+                    )
+            });
+            if let Err(failed) = result {
+                let (i, e) = *failed;
+                return Err(family_of(&e).err(format!("state {i}: {e}")));
+            }
+        }
+    }
+    let mut shape = count.map_or_else(Vec::new, |n| vec![n]);
+    shape.extend([nv, nv]);
+    (0..parts)
+        .map(|p| {
+            let mut values = Vec::with_capacity(n * size);
+            for i in 0..n {
+                let start = (i * parts + p) * size;
+                values.extend_from_slice(&out[start..start + size]);
+            }
+            to_numpy(py, &shape, values)
+        })
+        .collect()
 }
 
 /// Runs `f(data, states, out)` on one state or on every state of a stack.

@@ -2,17 +2,32 @@
 //! centre of mass, centroidal momentum and simulation. All are rigid-body dynamics (the joints'
 //! damping, friction and armature left out), as Pinocchio computes them.
 
-use crate::arrays::{ArrayPair, States, finite, new_data, run, states, to_numpy};
+use crate::arrays::{ArrayPair, States, finite, new_data, run, run_derivatives, states, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
 use kinetree::dynamics::{
-    Integrator, aba, center_of_mass, center_of_mass_jacobian, centroidal_momentum, crba,
-    generalized_gravity, kinetic_energy, mass_matrix_inverse, nonlinear_effects, potential_energy,
-    rnea, step,
+    Integrator, aba, aba_derivatives, center_of_mass, center_of_mass_jacobian, centroidal_momentum,
+    crba, generalized_gravity, generalized_gravity_derivatives, kinetic_energy,
+    mass_matrix_inverse, nonlinear_effects, potential_energy, rnea, rnea_derivatives, step,
 };
 use pyo3::prelude::*;
 
 const F: Family = Family::Dynamics;
+
+/// One derivative matrix (or a stack of them).
+type Derivative<'py> = Bound<'py, numpy::PyArrayDyn<f64>>;
+
+/// The three matrices of a derivative call.
+fn three<'py>(
+    parts: &mut impl Iterator<Item = Derivative<'py>>,
+) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
+    let missing = || pyo3::exceptions::PyRuntimeError::new_err("missing derivative");
+    Ok((
+        parts.next().ok_or_else(missing)?,
+        parts.next().ok_or_else(missing)?,
+        parts.next().ok_or_else(missing)?,
+    ))
+}
 
 #[pymethods]
 impl PyModel {
@@ -114,6 +129,87 @@ impl PyModel {
                 Ok(())
             },
         )
+    }
+
+    /// The analytic derivatives of inverse dynamics ``tau = rnea(q, v, a)``: a tuple
+    /// ``(dtau_dq, dtau_dv, M)``, each of shape ``(nv, nv)`` (``(N, nv, nv)`` for stacked
+    /// inputs), ``M = ∂tau/∂a`` the mass matrix. ``dtau_dq`` is taken in the tangent space:
+    /// column ``k`` is the derivative along ``integrate(q, eps * e_k)`` (a floating base moves
+    /// along a body-frame twist, as in Pinocchio's ``computeRNEADerivatives``).
+    ///
+    /// >>> q, v, a = panda.neutral(), np.full(9, 0.3), np.zeros(9)
+    /// >>> dtau_dq, dtau_dv, M = panda.rnea_derivatives(q, v, a)
+    /// >>> dtau_dq.shape, bool(np.allclose(M, panda.crba(q)))
+    /// ((9, 9), True)
+    fn rnea_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        a: &Bound<'py, PyAny>,
+    ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
+        let (q, v, a) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(a, "a", F)?);
+        let nv2 = self.model.nv() * self.model.nv();
+        let mut parts = run_derivatives(py, self, &[&q, &v, &a], 3, F, |d, x, out| {
+            let r = rnea_derivatives(&self.model, d, x[0], x[1], x[2])?;
+            for (k, m) in [r.dtau_dq, r.dtau_dv, r.dtau_da].into_iter().enumerate() {
+                out[k * nv2..(k + 1) * nv2].copy_from_slice(m);
+            }
+            Ok(())
+        })?
+        .into_iter();
+        three(&mut parts)
+    }
+
+    /// The derivative ``∂g/∂q`` of the generalized gravity (tangent space, as
+    /// ``rnea_derivatives``): shape ``(nv, nv)``, or ``(N, nv, nv)``.
+    ///
+    /// >>> q = panda.neutral()
+    /// >>> bool(np.allclose(panda.gravity_derivatives(q), panda.rnea_derivatives(q, np.zeros(9), np.zeros(9))[0]))
+    /// True
+    fn gravity_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Derivative<'py>> {
+        let q = self.q(q, F)?;
+        let mut parts = run_derivatives(py, self, &[&q], 1, F, |d, x, out| {
+            out.copy_from_slice(generalized_gravity_derivatives(&self.model, d, x[0])?);
+            Ok(())
+        })?;
+        parts
+            .pop()
+            .ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("no result"))
+    }
+
+    /// The analytic derivatives of forward dynamics ``ddq = aba(q, v, tau)``: a tuple
+    /// ``(dddq_dq, dddq_dv, Minv)``, each of shape ``(nv, nv)`` (or ``(N, nv, nv)``), ``Minv =
+    /// ∂ddq/∂tau = M(q)⁻¹``; ``dddq_dq`` in the tangent space, as ``rnea_derivatives``.
+    /// Computed from the inverse-dynamics derivatives at ``ddq`` and the tree-sparse
+    /// factorization of ``M`` (as Pinocchio's ``computeABADerivatives``).
+    ///
+    /// >>> q, v = panda.neutral(), np.full(9, 0.3)
+    /// >>> dddq_dq, dddq_dv, Minv = panda.aba_derivatives(q, v, np.zeros(9))
+    /// >>> bool(np.allclose(Minv, panda.minv(q)))
+    /// True
+    fn aba_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        tau: &Bound<'py, PyAny>,
+    ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
+        let (q, v, t) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(tau, "tau", F)?);
+        let nv2 = self.model.nv() * self.model.nv();
+        let mut parts = run_derivatives(py, self, &[&q, &v, &t], 3, F, |d, x, out| {
+            let r = aba_derivatives(&self.model, d, x[0], x[1], x[2])?;
+            for (k, m) in [r.dddq_dq, r.dddq_dv, r.dddq_dtau].into_iter().enumerate() {
+                out[k * nv2..(k + 1) * nv2].copy_from_slice(m);
+            }
+            Ok(())
+        })?
+        .into_iter();
+        three(&mut parts)
     }
 
     /// The inverse mass matrix ``M(q)⁻¹``: shape ``(nv, nv)`` (or stacked).

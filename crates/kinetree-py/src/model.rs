@@ -2,7 +2,7 @@
 
 use crate::arrays::{States, finite, new_data, run, states, to_numpy};
 use crate::errors::{Family, py_err};
-use kinetree::dynamics::DynamicsData;
+use kinetree::dynamics::{DerivativesData, DynamicsData};
 use kinetree::kinematics::configuration;
 use kinetree::model::dh::{DhConvention, DhRow, DhTable};
 use kinetree::model::{JointKind, JsonOptions, Model, RootJoint};
@@ -41,6 +41,8 @@ pub(crate) struct PyModel {
     source: Source,
     /// Buffers for one-state calls; a caller that finds them busy (another thread) allocates.
     scratch: Mutex<DynamicsData>,
+    /// Buffers for one-state derivative calls, made on first use.
+    derivatives_scratch: Mutex<Option<DerivativesData>>,
 }
 
 impl PyModel {
@@ -50,6 +52,7 @@ impl PyModel {
             model: Arc::new(model),
             source,
             scratch,
+            derivatives_scratch: Mutex::new(None),
         }
     }
 
@@ -60,6 +63,19 @@ impl PyModel {
             Ok(mut data) => f(&mut data),
             Err(TryLockError::Poisoned(p)) => f(&mut p.into_inner()),
             Err(TryLockError::WouldBlock) => f(&mut new_data(&self.model)),
+        }
+    }
+
+    /// As [`with_scratch`](Self::with_scratch), with the derivative algorithms' buffers.
+    pub(crate) fn with_derivatives_scratch<R>(
+        &self,
+        f: impl FnOnce(&mut DerivativesData) -> R,
+    ) -> R {
+        let fresh = || crate::arrays::new_derivatives_data(&self.model);
+        match self.derivatives_scratch.try_lock() {
+            Ok(mut data) => f(data.get_or_insert_with(fresh)),
+            Err(TryLockError::Poisoned(p)) => f(p.into_inner().get_or_insert_with(fresh)),
+            Err(TryLockError::WouldBlock) => f(&mut fresh()),
         }
     }
 
