@@ -46,7 +46,7 @@ pub enum InertiaCheck {
     /// Keep the model and list each defect in [`Model::warnings`].
     #[default]
     Warn,
-    /// Reject the model with [`Issue::InvalidInertia`].
+    /// Reject the model with [`Issue::InvalidInertia`] or [`Issue::MasslessInertia`].
     Strict,
 }
 
@@ -503,6 +503,31 @@ impl ModelBuilder {
                         });
                     }
                     Some(_) => {}
+                }
+                // A mimic cycle (a follows c, c follows a) has no leader: in any mode it is an
+                // error, reported once, at the cycle's first joint.
+                let mut cycle = vec![ji];
+                let mut next = joint_names.get(&m.joint).copied();
+                while let Some(k) = next {
+                    if k == ji || cycle.len() > self.joints.len() {
+                        break;
+                    }
+                    cycle.push(k);
+                    next = self.joints[k]
+                        .mimic
+                        .as_ref()
+                        .and_then(|m| joint_names.get(&m.joint).copied());
+                }
+                if next == Some(ji) && cycle.len() > 1 && cycle.iter().all(|&k| k >= ji) {
+                    let names: Vec<&str> = cycle
+                        .iter()
+                        .chain([&ji])
+                        .map(|&k| self.joints[k].name.as_str())
+                        .collect();
+                    issues.push(Issue::InvalidMimic {
+                        joint: j.name.clone(),
+                        reason: format!("mimic cycle {}: no joint leads", names.join(" -> ")),
+                    });
                 }
                 if self.mimic_mode == MimicMode::Coupled
                     && joint_names

@@ -74,6 +74,19 @@ pub(crate) fn check_link(link: &Link, issues: &mut Vec<Issue>, inertia_issues: &
         }
         let inertia = Inertia::new(inertial.mass, DVec3::ZERO, inertial.inertia);
         match inertia.check(INERTIA_TOLERANCE) {
+            Ok(()) if inertial.mass == 0.0 => {
+                let largest = inertial
+                    .inertia
+                    .to_voigt()
+                    .iter()
+                    .fold(0.0f64, |m, x| m.max(x.abs()));
+                if largest > 0.0 {
+                    inertia_issues.push(Issue::MasslessInertia {
+                        link: link.name.clone(),
+                        largest,
+                    });
+                }
+            }
             Ok(()) => {}
             // Negative and non-finite masses or tensors are never accepted.
             Err(defect @ InertiaDefect::NonFinite) => {

@@ -273,6 +273,14 @@ pub enum Issue {
         /// What fails.
         defect: InertiaDefect,
     },
+    /// A link has zero mass but a non-zero rotational inertia, which no rigid body has (a
+    /// warning by default, as [`Self::InvalidInertia`]; the inertia is used as given).
+    MasslessInertia {
+        /// The link.
+        link: String,
+        /// The largest absolute entry of the inertia tensor, kg·m².
+        largest: f64,
+    },
     /// A mimic joint follows a joint that does not exist.
     UnknownMimicTarget {
         /// The mimic joint.
@@ -397,6 +405,10 @@ impl fmt::Display for Issue {
                     "link '{link}' has an invalid inertia (mass {mass}): {defect}"
                 )
             }
+            Self::MasslessInertia { link, largest } => write!(
+                f,
+                "link '{link}' has mass 0 but a rotational inertia (largest entry {largest} kg·m²): no rigid body has one without the other"
+            ),
             Self::UnknownMimicTarget { joint, target } => {
                 write!(f, "joint '{joint}' mimics unknown joint '{target}'")
             }

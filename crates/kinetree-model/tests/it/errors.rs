@@ -556,3 +556,73 @@ fn negative_damping_or_friction_is_refused() {
     )
     .unwrap();
 }
+
+/// Three revolute joints in a chain; `mimics` gives each joint's `<mimic>` leader, if any.
+fn mimic_urdf(mimics: [Option<&str>; 3]) -> String {
+    let mut s = String::from(r#"<robot name="m"><link name="l0"/>"#);
+    for (i, leader) in mimics.iter().enumerate() {
+        let mimic = leader
+            .map(|l| format!(r#"<mimic joint="{l}"/>"#))
+            .unwrap_or_default();
+        s += &format!(
+            r#"<link name="l{n}"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+<joint name="j{i}" type="revolute"><parent link="l{i}"/><child link="l{n}"/><axis xyz="0 0 1"/>
+<limit lower="-1" upper="1" effort="1" velocity="1"/>{mimic}</joint>"#,
+            n = i + 1
+        );
+    }
+    s + "</robot>"
+}
+
+#[test]
+fn a_mimic_cycle_is_refused_in_every_mode() {
+    use kinetree_model::{LoadOptions, MimicMode};
+    let urdf = mimic_urdf([Some("j2"), None, Some("j0")]);
+    for mode in [MimicMode::Coupled, MimicMode::default()] {
+        let options = LoadOptions {
+            mimic: mode,
+            ..LoadOptions::from(RootJoint::Fixed)
+        };
+        let e = Model::from_urdf_str_with(&urdf, &options).unwrap_err();
+        let cycle = e.issues().iter().filter(|i| {
+            matches!(i, Issue::InvalidMimic { joint, reason }
+                if joint == "j0" && reason.contains("mimic cycle j0 -> j2 -> j0"))
+        });
+        assert_eq!(cycle.count(), 1, "{mode:?}: {e}");
+    }
+    // A chain that ends at a leader is no cycle (and loads uncoupled).
+    let chain = mimic_urdf([None, Some("j0"), Some("j1")]);
+    assert!(Model::from_urdf_str(&chain, RootJoint::Fixed).is_ok());
+}
+
+#[test]
+fn a_massless_link_with_rotational_inertia_is_a_warning() {
+    let urdf = r#"<robot name="r"><link name="base"/>
+  <link name="ghost"><inertial><mass value="0"/><inertia ixx="0.5" ixy="0" ixz="0" iyy="0.5" iyz="0" izz="0.25"/></inertial></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="ghost"/><axis xyz="0 0 1"/>
+  <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#;
+    let m = Model::from_urdf_str(urdf, RootJoint::Fixed).unwrap();
+    assert_eq!(
+        m.warnings(),
+        [Issue::MasslessInertia {
+            link: "ghost".into(),
+            largest: 0.5
+        }]
+    );
+    assert!(
+        m.warnings()[0]
+            .to_string()
+            .contains("link 'ghost' has mass 0")
+    );
+    // Mass 0 and no inertia is simply massless: no warning.
+    let clean = urdf
+        .replace(r#"ixx="0.5""#, r#"ixx="0""#)
+        .replace(r#"iyy="0.5""#, r#"iyy="0""#)
+        .replace(r#"izz="0.25""#, r#"izz="0""#);
+    assert!(
+        Model::from_urdf_str(&clean, RootJoint::Fixed)
+            .unwrap()
+            .warnings()
+            .is_empty()
+    );
+}
