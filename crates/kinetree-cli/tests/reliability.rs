@@ -366,3 +366,31 @@ fn skipped_meshes_are_listed_one_readable_line_each() {
         assert!(!err.contains("SkippedMesh"), "{err}");
     }
 }
+
+#[test]
+fn an_unknown_field_in_a_compute_states_file_is_refused() {
+    let dir = scratch("compute-fields");
+    let states = dir.join("states.json");
+    for (text, field) in [
+        (
+            r#"{"samples":[{"q":{"panda_joint1":0.1},"tua":{"panda_joint1":1}}]}"#,
+            "'tua'",
+        ),
+        (
+            r#"{"samples":[{"name":"s","state":{"q":{"panda_joint1":0.1},"vv":{}}}]}"#,
+            "'vv'",
+        ),
+    ] {
+        std::fs::write(&states, text).unwrap();
+        let o = kinetree(&["compute", &panda(), "--states", states.to_str().unwrap()]);
+        refused(&o, &["sample 0", "unknown field", field]);
+    }
+    // A reference sample keeps its results beside `state`: those are not the state.
+    std::fs::write(
+        &states,
+        r#"{"samples":[{"name":"s","state":{"q":{"panda_joint1":0.1}},"rnea":[1,2]}]}"#,
+    )
+    .unwrap();
+    let o = kinetree(&["compute", &panda(), "--states", states.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}

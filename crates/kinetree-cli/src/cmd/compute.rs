@@ -246,10 +246,23 @@ fn parse_request(request: &Value) -> Result<(Vec<SampleInput>, Vec<Option<Value>
     let mut inputs = Vec::with_capacity(samples.len());
     let mut names = Vec::with_capacity(samples.len());
     for (i, sample) in samples.iter().enumerate() {
-        let state = match sample.get("state") {
-            Some(state) if state.is_object() => state,
-            _ => sample,
+        // A sample with a `state` object is a Pinocchio reference sample: its other keys are the
+        // reference results and are ignored. Otherwise the sample itself is the state.
+        let (state, allowed): (&Value, &[&str]) = match sample.get("state") {
+            Some(state) if state.is_object() => (state, &["q", "v", "a", "tau"]),
+            _ => (sample, &["name", "q", "v", "a", "tau"]),
         };
+        // A typo ("tua", "qq") must not silently leave a quantity at its default, as the model
+        // JSON refuses unknown fields.
+        if let Some(key) = state
+            .as_object()
+            .and_then(|o| o.keys().find(|k| !allowed.contains(&k.as_str())))
+        {
+            anyhow::bail!(
+                "sample {i}: unknown field '{key}' (expected one of {})",
+                allowed.join(", ")
+            );
+        }
         let input = SampleInput::deserialize(state).with_context(|| format!("sample {i}"))?;
         inputs.push(input);
         names.push(sample.get("name").cloned());
