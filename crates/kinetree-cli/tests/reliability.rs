@@ -368,6 +368,21 @@ fn skipped_meshes_are_listed_one_readable_line_each() {
 }
 
 #[test]
+fn an_invalid_obstacle_is_called_an_obstacle_not_a_link() {
+    let dir = scratch("obstacle");
+    let scene = dir.join("scene.json");
+    std::fs::write(
+        &scene,
+        r#"{"obstacles":[{"name":"t","geometry":{"type":"sphere","radius":-1}}]}"#,
+    )
+    .unwrap();
+    let o = kinetree(&["collide", &panda(), "--obstacles", scene.to_str().unwrap()]);
+    refused(&o, &["obstacle 't'", "radius = -1"]);
+    assert!(!stderr(&o).contains("link 't'"), "{}", stderr(&o));
+    assert_eq!(stderr(&o).matches("'t'").count(), 1, "{}", stderr(&o));
+}
+
+#[test]
 fn an_unknown_field_in_a_compute_states_file_is_refused() {
     let dir = scratch("compute-fields");
     let states = dir.join("states.json");

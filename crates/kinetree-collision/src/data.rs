@@ -290,7 +290,8 @@ impl CollisionData {
     /// loaded through `options`) at `pose` (world frame) and returns its id.
     ///
     /// # Errors
-    /// As [`shape_from_geometry`]; [`CollisionError::NonFinite`] for a non-finite pose.
+    /// [`CollisionError::InvalidObstacle`] naming the obstacle for an invalid shape or a
+    /// non-finite pose; otherwise as [`shape_from_geometry`] (a mesh that cannot be loaded).
     pub fn add_obstacle(
         &mut self,
         name: impl Into<String>,
@@ -299,10 +300,18 @@ impl CollisionData {
         options: &CollisionOptions,
     ) -> Result<ObstacleId, CollisionError> {
         let name = name.into();
-        let (shape, geometry_from_shape) = shape_from_geometry(geometry, options, &name, 0)?;
+        // Name the obstacle as an obstacle, not as "collision element 0 of link '…'".
+        let (shape, geometry_from_shape) = shape_from_geometry(geometry, options, &name, 0)
+            .map_err(|e| match e {
+                CollisionError::InvalidGeometry { link, reason, .. } => {
+                    CollisionError::InvalidObstacle { name: link, reason }
+                }
+                e => e,
+            })?;
         if !pose.is_finite() {
-            return Err(CollisionError::NonFinite {
-                what: "obstacle pose",
+            return Err(CollisionError::InvalidObstacle {
+                name,
+                reason: "the pose is not finite".into(),
             });
         }
         let id = self.add_obstacle_shape(name, shape, &se3_to_pose(pose))?;

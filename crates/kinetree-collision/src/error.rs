@@ -39,6 +39,15 @@ pub enum CollisionError {
         /// Why.
         reason: String,
     },
+    /// A world obstacle cannot be added: its shape is invalid (as [`Self::InvalidGeometry`] for a
+    /// link) or its pose is not finite.
+    #[error("obstacle '{name}': {reason}")]
+    InvalidObstacle {
+        /// The obstacle's name.
+        name: String,
+        /// Why.
+        reason: String,
+    },
     /// No link has this name (in an SRDF file, a disabled pair, …).
     #[error("unknown link '{name}'")]
     UnknownLink {
@@ -107,6 +116,17 @@ pub enum CollisionError {
         data_bodies: usize,
         /// Bodies of the collision model's model.
         model_bodies: usize,
+    },
+    /// A distance between two shapes is not finite although every input was: the shapes are
+    /// placed so far out (a prismatic joint at 1e308 m, say) that the arithmetic overflows.
+    #[error(
+        "the distance between '{shape_a}' and '{shape_b}' overflowed: the shapes are placed beyond what double precision can measure"
+    )]
+    Overflow {
+        /// Name of the first shape.
+        shape_a: String,
+        /// Name of the second shape (or obstacle).
+        shape_b: String,
     },
     /// parry cannot compute this query for this pair of shapes.
     #[error("parry does not support this query between '{shape_a}' and '{shape_b}'")]

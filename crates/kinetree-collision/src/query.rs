@@ -176,7 +176,8 @@ pub fn compute_world_collisions<'d>(
 /// [`CollisionData`]`::link_pair_distances`; the first is returned.
 ///
 /// # Errors
-/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
+/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`];
+/// [`CollisionError::Overflow`] when a distance is not finite (shapes placed absurdly far).
 ///
 /// # Examples
 /// ```
@@ -221,12 +222,9 @@ pub fn compute_distances<'d>(
             &mut data.scratch,
         )
         .map_err(|_| unsupported(sa.name(), sb.name()))?
-        .unwrap_or(Witness {
-            distance: f64::INFINITY,
-            point_a: world[a].translation,
-            point_b: world[b].translation,
-            normal: glam::DVec3::X,
-        });
+        // With no distance bound, only a NaN distance gives no witness.
+        .filter(finite_witness)
+        .ok_or_else(|| overflow(sa.name(), sb.name()))?;
         data.distances[k] = with_ids(w, a, b);
         let lp = &mut data.link_pair_distances[pair.link_pair];
         if w.distance < lp.distance {
@@ -244,7 +242,8 @@ pub fn compute_distances<'d>(
 /// Stored in [`CollisionData::world_distances`] (by shape, then obstacle) and returned.
 ///
 /// # Errors
-/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`].
+/// [`CollisionError::DataMismatch`]; [`CollisionError::Unsupported`];
+/// [`CollisionError::Overflow`] when a distance is not finite (shapes placed absurdly far).
 pub fn compute_world_distances<'d>(
     cmodel: &CollisionModel,
     data: &'d mut CollisionData,
@@ -261,10 +260,10 @@ pub fn compute_world_distances<'d>(
                 f64::INFINITY,
                 &mut data.scratch,
             )
-            .map_err(|_| unsupported(s.name(), o.name()))?;
-            if let Some(w) = w {
-                data.world_distances.push(with_ids(w, a, k));
-            }
+            .map_err(|_| unsupported(s.name(), o.name()))?
+            .filter(finite_witness)
+            .ok_or_else(|| overflow(s.name(), o.name()))?;
+            data.world_distances.push(with_ids(w, a, k));
         }
     }
     Ok(&data.world_distances)
@@ -321,6 +320,18 @@ fn with_ids(w: Witness, a: usize, b: usize) -> Proximity {
         point_a: w.point_a,
         point_b: w.point_b,
         normal: w.normal,
+    }
+}
+
+/// A witness whose distance and points are all finite.
+fn finite_witness(w: &Witness) -> bool {
+    w.distance.is_finite() && w.point_a.is_finite() && w.point_b.is_finite()
+}
+
+fn overflow(a: &str, b: &str) -> CollisionError {
+    CollisionError::Overflow {
+        shape_a: a.to_string(),
+        shape_b: b.to_string(),
     }
 }
 

@@ -72,7 +72,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             .with_context(|| format!("cannot parse {}", path.display()))?;
         for o in &scene.obstacles {
             data.add_obstacle(o.name.clone(), &o.geometry, &o.placement(), &options)
-                .with_context(|| format!("obstacle '{}' in {}", o.name, path.display()))?;
+                .with_context(|| format!("in {}", path.display()))?;
         }
     }
     let mut kin = KinematicsData::new(&model);

@@ -93,8 +93,14 @@ fn obstacles_collide_and_measure() {
             &Se3::IDENTITY,
             &options
         ),
-        Err(CollisionError::InvalidGeometry { .. })
+        Err(CollisionError::InvalidObstacle { name, reason })
+            if name == "bad" && reason.contains("radius = -1")
     ));
+    let far = Se3::from_translation(DVec3::new(f64::INFINITY, 0.0, 0.0));
+    let err = data
+        .add_obstacle("far", &Geometry::Sphere { radius: 1.0 }, &far, &options)
+        .unwrap_err();
+    assert_eq!(err.to_string(), "obstacle 'far': the pose is not finite");
     data.clear_obstacles();
     assert_eq!(data.obstacles().count(), 0);
     // A shape index past the model's shapes is an error; the last one is the last pose.

@@ -428,3 +428,126 @@ fn trajectory_files_are_checked_and_posed() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every number in an answer is finite (serde_json writes NaN and inf as `null`, so a `null`
+/// where a number belongs is a NaN that escaped).
+fn assert_no_null_numbers(v: &Value, endpoint: &str, body: &[u8]) {
+    match v {
+        Value::Null => panic!(
+            "null (a NaN or inf) in the {endpoint} answer to {}",
+            String::from_utf8_lossy(body)
+        ),
+        Value::Number(n) => assert!(n.as_f64().is_some_and(f64::is_finite)),
+        Value::Array(a) => a
+            .iter()
+            .for_each(|x| assert_no_null_numbers(x, endpoint, body)),
+        Value::Object(o) => o
+            .values()
+            .for_each(|x| assert_no_null_numbers(x, endpoint, body)),
+        Value::Bool(_) | Value::String(_) => {}
+    }
+}
+
+/// The stable fuzz harness of the viewer's HTTP bodies (issue #11): the committed seeds in
+/// `fuzz/seeds/view` and a few thousand bodies built from hostile pieces and byte mutations go
+/// through `/api/fk`, `/api/ik` and `/api/collide` directly. Each answer is a 400 with a message
+/// or a 200 without NaN; a panic fails the test.
+#[test]
+fn fuzzed_api_bodies_get_an_answer_or_a_bad_request() {
+    use super::api;
+    use rand::Rng;
+    // The model and collision model exactly as `kinetree view` builds them (meshes found).
+    let state = State::new(&panda_args()).unwrap();
+    let (model, cmodel) = (&state.model, state.collision.as_ref().unwrap());
+    let seeds_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/view");
+    let mut seeds: Vec<Vec<u8>> = std::fs::read_dir(&seeds_dir)
+        .unwrap()
+        .map(|e| std::fs::read(e.unwrap().path()).unwrap())
+        .collect();
+    assert!(
+        seeds.len() >= 7,
+        "the seed corpus is in {}",
+        seeds_dir.display()
+    );
+    // Hostile pieces: numbers at the edges of f64, wrong types, wrong lengths, unknown names;
+    // ordinary values are listed several times so that many bodies are valid.
+    let numbers = [
+        "0", "0.5", "-0.3", "1", "0.02", "0", "0.5", "-0.3", "1", "0.02", "-0", "1e308", "-1e308",
+        "5e-324", "1e-310", "3.14159", "1e999", "-1e999", "\"1\"", "null", "true", "[]", "{}",
+    ];
+    let names = [
+        "panda_joint1",
+        "panda_joint7",
+        "panda_finger_joint2",
+        "nope",
+        "",
+    ];
+    let frames = ["panda_hand", "panda_link0", "panda_leftfinger", "nope", ""];
+    let mut rng = rand::rngs::SmallRng::seed_from_u64(11);
+    fn pick<'a>(rng: &mut rand::rngs::SmallRng, xs: &[&'a str]) -> &'a str {
+        xs[rng.random_range(0..xs.len())]
+    }
+    for _ in 0..1500 {
+        let r = &mut rng;
+        let q = match r.random_range(0..3) {
+            0 => format!(
+                "{{\"{}\": {}, \"{}\": {}}}",
+                pick(r, &names),
+                pick(r, &numbers),
+                pick(r, &names),
+                pick(r, &numbers)
+            ),
+            1 => {
+                let n = r.random_range(0..11);
+                let values: Vec<&str> = (0..n).map(|_| pick(r, &numbers)).collect();
+                format!("[{}]", values.join(","))
+            }
+            _ => pick(r, &numbers).to_string(),
+        };
+        let v: Vec<&str> = (0..7).map(|_| pick(r, &numbers)).collect();
+        let frame = pick(r, &frames);
+        seeds.push(
+            format!(
+                "{{\"q\": {q}, \"frame\": \"{frame}\", \"target\": {{\"xyz\": [{}, {}, {}], \"quat\": [{}, {}, {}, {}]}}}}",
+                v[0], v[1], v[2], v[3], v[4], v[5], v[6]
+            )
+            .into_bytes(),
+        );
+    }
+    // Byte mutations of everything so far: flips, cuts and insertions.
+    let count = seeds.len();
+    for k in 0..1500 {
+        let mut body = seeds[k % count].clone();
+        for _ in 0..rng.random_range(1..4) {
+            let at = rng.random_range(0..=body.len());
+            match rng.random_range(0..3) {
+                0 if at < body.len() => body[at] ^= 1 << rng.random_range(0..8),
+                1 => body.truncate(at),
+                _ => body.insert(at, rng.random()),
+            }
+        }
+        seeds.push(body);
+    }
+    let (mut ok, mut bad) = (0, 0);
+    for body in &seeds {
+        for (endpoint, answer) in [
+            ("fk", api::fk(model, body)),
+            ("ik", api::ik(model, body)),
+            ("collide", api::collide(model, Ok(cmodel), body)),
+        ] {
+            match answer {
+                Ok(v) => {
+                    assert_no_null_numbers(&v, endpoint, body);
+                    ok += 1;
+                }
+                Err(e) => {
+                    assert_eq!(e.status, 400, "{}", String::from_utf8_lossy(body));
+                    assert!(!e.message.is_empty());
+                    bad += 1;
+                }
+            }
+        }
+    }
+    // Both outcomes are exercised, not only the refusals.
+    assert!(ok > 100 && bad > 100, "{ok} answers, {bad} refusals");
+}
