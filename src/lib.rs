@@ -36,6 +36,8 @@ pub use kinetree_workspace as workspace;
 #[cfg(feature = "kinematics")]
 pub mod batch;
 mod error;
+#[cfg(feature = "parallel")]
+pub mod parallel;
 
 pub use error::Error;
 

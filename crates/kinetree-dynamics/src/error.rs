@@ -42,6 +42,16 @@ pub enum DynamicsError {
         /// The non-finite value.
         value: f64,
     },
+    /// A state of a batch (see [`crate::batch`]) failed: `index` is the state's position in the
+    /// batch and `source` says what was wrong with it.
+    #[error("state {index} of the batch: {source}")]
+    InBatchState {
+        /// The state's index in the batch (0-based).
+        index: usize,
+        /// What went wrong with that state.
+        #[source]
+        source: Box<DynamicsError>,
+    },
     /// A data object (or an [`ExternalForces`](crate::ExternalForces)) was created for a different
     /// model.
     #[error(

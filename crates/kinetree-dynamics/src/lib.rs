@@ -69,12 +69,15 @@
 //!   limits during a simulation).
 //! - [`derivatives`]: analytic derivatives of RNEA, gravity and ABA; [`exudyn`]: Exudyn-named
 //!   helpers; `all_terms`: every quantity of one state, for the tools.
+//! - [`batch`]: RNEA, ABA and CRBA of many states per call, vectorised across states
+//!   ([`DynamicsBatch`](batch::DynamicsBatch)).
 //!
 //! ## Optional cargo features
 //! None.
 
 mod aba;
 mod all_terms;
+pub mod batch;
 mod com;
 mod crba;
 mod data;

@@ -57,6 +57,16 @@ pub enum KinematicsError {
         /// The first body (named by its link) whose result is not finite.
         body: String,
     },
+    /// A state of a batch (see [`crate::batch`]) failed: `index` is the state's position in the
+    /// batch and `source` says what was wrong with it.
+    #[error("state {index} of the batch: {source}")]
+    InBatchState {
+        /// The state's index in the batch (0-based).
+        index: usize,
+        /// What went wrong with that state.
+        #[source]
+        source: Box<KinematicsError>,
+    },
     /// A data object was created for a different model.
     #[error(
         "the data was created for a model with {data_bodies} bodies and nv = {data_nv}, not this one ({model_bodies} bodies, nv = {model_nv})"

@@ -65,8 +65,11 @@
 //! - `chain` and `chain_datums`: [`Chain`] and its files; `actuation`: actuation groups
 //!   (`group.rs`), [`ActuatedChain`] (`chain.rs`), [`LinearActuator`] and actuated IK.
 //! - [`codegen`]: forward kinematics as source code.
+//! - [`batch`]: forward kinematics and frame Jacobians of many states per call, vectorised across
+//!   states ([`KinematicsBatch`](batch::KinematicsBatch)).
 
 mod actuation;
+pub mod batch;
 mod chain;
 mod chain_datums;
 pub mod codegen;

@@ -130,3 +130,45 @@ fn derivatives_do_not_allocate() {
         assert_eq!(count, 0, "{name}: the derivatives allocated");
     }
 }
+
+#[test]
+fn batched_algorithms_do_not_allocate() {
+    use kinetree_dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
+    use kinetree_dynamics::kinematics::batch::{
+        KinematicsBatch, forward_kinematics_batch, frame_jacobian_batch,
+    };
+    use kinetree_dynamics::spatial::{Motion, Se3};
+    for (name, model) in all_models() {
+        let n = 11;
+        let (nq, nv) = (model.nq(), model.nv());
+        let mut r = rng(9);
+        let (mut q, mut v, mut a) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..n {
+            let (qk, vk, ak) = random_state(&model, &mut r);
+            q.extend(qk);
+            v.extend(vk);
+            a.extend(ak);
+        }
+        assert_eq!(q.len(), n * nq);
+        let mut kb = KinematicsBatch::new(&model);
+        let mut db = DynamicsBatch::new(&model);
+        let mut links = vec![Se3::IDENTITY; n * model.links().len()];
+        let mut frames = vec![Se3::IDENTITY; n * model.frames().len()];
+        let mut jac = vec![Motion::ZERO; n * nv];
+        let mut out = vec![0.0; n * nv];
+        let mut mass = vec![0.0; n * nv * nv];
+        let last = FrameId::Link(model.links().len() - 1);
+        let count = allocations_during(|| {
+            for _ in 0..2 {
+                forward_kinematics_batch(&model, &mut kb, &q, &mut links, Some(&mut frames))
+                    .unwrap();
+                frame_jacobian_batch(&model, &mut kb, &q, last, ReferenceFrame::World, &mut jac)
+                    .unwrap();
+                rnea_batch(&model, &mut db, &q, &v, &a, &mut out).unwrap();
+                aba_batch(&model, &mut db, &q, &v, &a, &mut out).unwrap();
+                crba_batch(&model, &mut db, &q, &mut mass).unwrap();
+            }
+        });
+        assert_eq!(count, 0, "{name}: the batched algorithms allocated");
+    }
+}

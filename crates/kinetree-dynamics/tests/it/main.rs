@@ -1,6 +1,7 @@
 //! Integration tests of the dynamics layer.
 
 mod allocation;
+mod batch;
 mod common;
 mod derivatives;
 mod errors;

@@ -1,0 +1,200 @@
+//! Batched dynamics: RNEA, ABA and CRBA of `N` states in one call, into buffers the caller owns.
+//!
+//! The states are stored one after another, as in
+//! [`kinetree_kinematics::batch`]: `q` holds `N · model.nq()` numbers, `v`, `a` and `tau`
+//! `N · model.nv()`, and a mass-matrix output `N · nv · nv` (each `nv x nv`, row-major). A
+//! [`DynamicsBatch`] holds every buffer; after [`DynamicsBatch::new`] nothing allocates. State
+//! `k`'s results equal the one-state [`rnea`](crate::rnea), [`aba`](crate::aba) and
+//! [`crba`](crate::crba) to rounding (the tests hold them to 1e-14 relative on every reference
+//! robot).
+//!
+//! For all cores, `kinetree::parallel` splits a batch over a rayon pool with the same
+//! signatures.
+//!
+//! # Examples
+//! ```
+//! use kinetree_dynamics::batch::{DynamicsBatch, rnea_batch};
+//! use kinetree_dynamics::{DynamicsData, rnea};
+//! # fn main() -> Result<(), kinetree_dynamics::DynamicsError> {
+//! let model = kinetree_dynamics::model::samples::planar_2r(0.3, 0.2);
+//! let q = [0.1, 0.2, -0.3, 0.4]; // two states of nq = 2
+//! let v = [0.5, -0.5, 1.0, 0.0];
+//! let a = [0.0, 1.0, 2.0, -1.0];
+//! let mut batch = DynamicsBatch::new(&model);
+//! let mut tau = [0.0; 4];
+//! rnea_batch(&model, &mut batch, &q, &v, &a, &mut tau)?;
+//! let mut data = DynamicsData::new(&model);
+//! let one = rnea(&model, &mut data, &q[2..], &v[2..], &a[2..])?;
+//! assert!((tau[2] - one[0]).abs() < 1e-12 && (tau[3] - one[1]).abs() < 1e-12);
+//! # Ok(())
+//! # }
+//! ```
+
+use crate::data::{DynamicsData, JointTerms};
+use crate::error::DynamicsError;
+use kinetree_kinematics::batch::batch_size;
+use kinetree_kinematics::model::Model;
+
+/// The buffers of the batched dynamics for one [`Model`] (see the [module](self) docs).
+///
+/// Create it once per model (and per thread); the batched functions allocate nothing afterwards.
+#[derive(Clone, Debug)]
+pub struct DynamicsBatch {
+    data: DynamicsData,
+}
+
+impl DynamicsBatch {
+    /// Allocates every buffer for `model`, for the rigid-body dynamics (as
+    /// [`DynamicsData::new`]).
+    #[must_use]
+    pub fn new(model: &Model) -> Self {
+        Self::with_joint_terms(model, JointTerms::Ignored)
+    }
+
+    /// Allocates every buffer for `model`, choosing whether the joints' damping, friction and
+    /// armature enter the dynamics (as [`DynamicsData::with_joint_terms`]).
+    #[must_use]
+    pub fn with_joint_terms(model: &Model, joint_terms: JointTerms) -> Self {
+        Self {
+            data: DynamicsData::with_joint_terms(model, joint_terms),
+        }
+    }
+}
+
+/// Wraps the error of state `index` of a batch.
+fn in_state(index: usize) -> impl Fn(DynamicsError) -> DynamicsError {
+    move |e| DynamicsError::InBatchState {
+        index,
+        source: Box::new(e),
+    }
+}
+
+/// [`DynamicsError::DimensionMismatch`] unless a buffer of `len` numbers holds `n` states of
+/// `per_state` each.
+fn check_buffer(
+    what: &'static str,
+    len: usize,
+    n: usize,
+    per_state: usize,
+) -> Result<(), DynamicsError> {
+    if len != n * per_state {
+        return Err(DynamicsError::DimensionMismatch {
+            what,
+            expected: n * per_state,
+            actual: len,
+        });
+    }
+    Ok(())
+}
+
+/// The number of states of a batch: `q.len() / nq`, or for a model without configuration
+/// coordinates `out_len / per_state`.
+fn states(
+    model: &Model,
+    q_len: usize,
+    out_what: &'static str,
+    out_len: usize,
+    per_state: usize,
+) -> Result<usize, DynamicsError> {
+    let n = if model.nq() > 0 {
+        batch_size("q", q_len, model.nq())?
+    } else {
+        batch_size(out_what, out_len, per_state)?
+    };
+    Ok(n)
+}
+
+/// Inverse dynamics of `N` states: `tau` (`N · nv`) receives the torques
+/// [`rnea`](crate::rnea) computes for each state `(q, v, a)` (`N · nq`, `N · nv`, `N · nv`).
+/// Allocates nothing.
+///
+/// # Errors
+/// [`DynamicsError::DimensionMismatch`] for buffers of the wrong length,
+/// [`DynamicsError::DataMismatch`] when `batch` belongs to another model,
+/// [`DynamicsError::InBatchState`] wrapping the one-state error of the first bad state.
+pub fn rnea_batch(
+    model: &Model,
+    batch: &mut DynamicsBatch,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    tau: &mut [f64],
+) -> Result<(), DynamicsError> {
+    batch.data.check_model(model)?;
+    let (nq, nv) = (model.nq(), model.nv());
+    let n = states(model, q.len(), "tau", tau.len(), nv)?;
+    check_buffer("v", v.len(), n, nv)?;
+    check_buffer("a", a.len(), n, nv)?;
+    check_buffer("tau", tau.len(), n, nv)?;
+    for k in 0..n {
+        let out = crate::rnea(
+            model,
+            &mut batch.data,
+            &q[k * nq..(k + 1) * nq],
+            &v[k * nv..(k + 1) * nv],
+            &a[k * nv..(k + 1) * nv],
+        )
+        .map_err(in_state(k))?;
+        tau[k * nv..(k + 1) * nv].copy_from_slice(out);
+    }
+    Ok(())
+}
+
+/// Forward dynamics of `N` states: `ddq` (`N · nv`) receives the accelerations
+/// [`aba`](crate::aba) computes for each state `(q, v, tau)` (`N · nq`, `N · nv`, `N · nv`).
+/// Allocates nothing.
+///
+/// # Errors
+/// As [`rnea_batch`].
+pub fn aba_batch(
+    model: &Model,
+    batch: &mut DynamicsBatch,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    ddq: &mut [f64],
+) -> Result<(), DynamicsError> {
+    batch.data.check_model(model)?;
+    let (nq, nv) = (model.nq(), model.nv());
+    let n = states(model, q.len(), "ddq", ddq.len(), nv)?;
+    check_buffer("v", v.len(), n, nv)?;
+    check_buffer("tau", tau.len(), n, nv)?;
+    check_buffer("ddq", ddq.len(), n, nv)?;
+    for k in 0..n {
+        let out = crate::aba(
+            model,
+            &mut batch.data,
+            &q[k * nq..(k + 1) * nq],
+            &v[k * nv..(k + 1) * nv],
+            &tau[k * nv..(k + 1) * nv],
+        )
+        .map_err(in_state(k))?;
+        ddq[k * nv..(k + 1) * nv].copy_from_slice(out);
+    }
+    Ok(())
+}
+
+/// The joint-space mass matrices of `N` states: `mass_matrix` (`N · nv · nv`) receives, for
+/// each configuration of `q` (`N · nq`), the full symmetric `nv x nv` matrix (row-major) that
+/// [`crba`](crate::crba) computes. Allocates nothing.
+///
+/// # Errors
+/// As [`rnea_batch`].
+pub fn crba_batch(
+    model: &Model,
+    batch: &mut DynamicsBatch,
+    q: &[f64],
+    mass_matrix: &mut [f64],
+) -> Result<(), DynamicsError> {
+    batch.data.check_model(model)?;
+    let (nq, nv) = (model.nq(), model.nv());
+    let nn = nv * nv;
+    let n = states(model, q.len(), "mass matrix", mass_matrix.len(), nn)?;
+    check_buffer("mass matrix", mass_matrix.len(), n, nn)?;
+    for k in 0..n {
+        let out =
+            crate::crba(model, &mut batch.data, &q[k * nq..(k + 1) * nq]).map_err(in_state(k))?;
+        mass_matrix[k * nn..(k + 1) * nn].copy_from_slice(out);
+    }
+    Ok(())
+}

@@ -1,0 +1,225 @@
+//! The batched entry points (`kinetree_kinematics::batch`, `kinetree_dynamics::batch`) against
+//! the one-state algorithms, state by state, on every reference robot and a model with every
+//! joint kind (fixed and floating root), for batch sizes that do and do not fill the SIMD lanes.
+
+use crate::common::{all_models, random_state, rng};
+use kinetree_dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
+use kinetree_dynamics::kinematics::batch::{
+    KinematicsBatch, forward_kinematics_batch, frame_jacobian_batch,
+};
+use kinetree_dynamics::kinematics::{
+    KinematicsData, KinematicsError, compute_frame_jacobian, forward_kinematics,
+    update_frame_placements,
+};
+use kinetree_dynamics::model::Model;
+use kinetree_dynamics::spatial::{Motion, Se3};
+use kinetree_dynamics::{DynamicsData, DynamicsError, FrameId, ReferenceFrame, aba, crba, rnea};
+
+/// Relative agreement required of every batched result with the one-state one.
+const TOL: f64 = 1e-14;
+
+/// `n` random states of `model`, stacked: q (`n·nq`), v, a (`n·nv`).
+fn states(model: &Model, n: usize, seed: u64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut r = rng(seed);
+    let (mut qs, mut vs, mut as_) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..n {
+        let (q, v, a) = random_state(model, &mut r);
+        // Some states far from the origin of the joint space too (large angles, fast motion).
+        let scale = if k % 3 == 0 { 7.0 } else { 1.0 };
+        qs.extend(q);
+        vs.extend(v.iter().map(|x| x * scale));
+        as_.extend(a.iter().map(|x| x * scale));
+    }
+    (qs, vs, as_)
+}
+
+/// Asserts `got` equals `want` to [`TOL`] relative to `want`'s largest entry.
+fn assert_rel(got: &[f64], want: &[f64], what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}");
+    let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        assert!(
+            (g - w).abs() <= TOL * scale,
+            "{what}[{i}]: batched {g:e}, one-state {w:e} (scale {scale:e})"
+        );
+    }
+}
+
+fn se3_numbers(xs: &[Se3]) -> Vec<f64> {
+    xs.iter()
+        .flat_map(|x| {
+            let mut v = x.rotation.to_cols_array().to_vec();
+            v.extend(x.translation.to_array());
+            v
+        })
+        .collect()
+}
+
+fn motion_numbers(xs: &[Motion]) -> Vec<f64> {
+    xs.iter().flat_map(Motion::to_array).collect()
+}
+
+/// Batch sizes: one state, lane widths and their neighbours, and a size no lane width divides.
+const SIZES: [usize; 5] = [1, 4, 8, 9, 19];
+
+#[test]
+fn batched_kinematics_equals_the_one_state_path() {
+    for (name, model) in all_models() {
+        let (nq, nv, nl, nf) = (
+            model.nq(),
+            model.nv(),
+            model.links().len(),
+            model.frames().len(),
+        );
+        let mut batch = KinematicsBatch::new(&model);
+        let mut data = KinematicsData::new(&model);
+        let mut column = vec![Motion::ZERO; nv];
+        let targets = [FrameId::Link(nl - 1), FrameId::Link(nl / 2)]
+            .into_iter()
+            .chain((nf > 0).then(|| FrameId::Frame(nf - 1)));
+        let targets: Vec<FrameId> = targets.collect();
+        for n in SIZES {
+            let (q, _, _) = states(&model, n, 11 + n as u64);
+            let mut links = vec![Se3::IDENTITY; n * nl];
+            let mut frames = vec![Se3::IDENTITY; n * nf];
+            forward_kinematics_batch(&model, &mut batch, &q, &mut links, Some(&mut frames))
+                .unwrap();
+            for k in 0..n {
+                forward_kinematics(&model, &mut data, &q[k * nq..(k + 1) * nq]).unwrap();
+                update_frame_placements(&model, &mut data).unwrap();
+                let what = format!("{name} n={n} state {k}");
+                assert_rel(
+                    &se3_numbers(&links[k * nl..(k + 1) * nl]),
+                    &se3_numbers(data.world_from_link()),
+                    &format!("{what} links"),
+                );
+                assert_rel(
+                    &se3_numbers(&frames[k * nf..(k + 1) * nf]),
+                    &se3_numbers(data.world_from_frame()),
+                    &format!("{what} frames"),
+                );
+            }
+            for &frame in &targets {
+                for reference in [
+                    ReferenceFrame::World,
+                    ReferenceFrame::Local,
+                    ReferenceFrame::LocalWorldAligned,
+                ] {
+                    let mut jac = vec![Motion::ZERO; n * nv];
+                    frame_jacobian_batch(&model, &mut batch, &q, frame, reference, &mut jac)
+                        .unwrap();
+                    for k in 0..n {
+                        let qk = &q[k * nq..(k + 1) * nq];
+                        compute_frame_jacobian(
+                            &model,
+                            &mut data,
+                            qk,
+                            frame,
+                            reference,
+                            &mut column,
+                        )
+                        .unwrap();
+                        assert_rel(
+                            &motion_numbers(&jac[k * nv..(k + 1) * nv]),
+                            &motion_numbers(&column),
+                            &format!("{name} n={n} state {k} jacobian {frame:?} {reference:?}"),
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn batched_dynamics_equals_the_one_state_path() {
+    for (name, model) in all_models() {
+        let (nq, nv) = (model.nq(), model.nv());
+        let mut batch = DynamicsBatch::new(&model);
+        let mut data = DynamicsData::new(&model);
+        for n in SIZES {
+            let (q, v, a) = states(&model, n, 23 + n as u64);
+            let mut tau = vec![0.0; n * nv];
+            rnea_batch(&model, &mut batch, &q, &v, &a, &mut tau).unwrap();
+            let mut ddq = vec![0.0; n * nv];
+            aba_batch(&model, &mut batch, &q, &v, &tau, &mut ddq).unwrap();
+            let mut mass = vec![0.0; n * nv * nv];
+            crba_batch(&model, &mut batch, &q, &mut mass).unwrap();
+            for k in 0..n {
+                let (qk, vk, ak) = (
+                    &q[k * nq..(k + 1) * nq],
+                    &v[k * nv..(k + 1) * nv],
+                    &a[k * nv..(k + 1) * nv],
+                );
+                let what = format!("{name} n={n} state {k}");
+                let t = rnea(&model, &mut data, qk, vk, ak).unwrap().to_vec();
+                assert_rel(&tau[k * nv..(k + 1) * nv], &t, &format!("{what} rnea"));
+                let d = aba(&model, &mut data, qk, vk, &t).unwrap();
+                assert_rel(&ddq[k * nv..(k + 1) * nv], d, &format!("{what} aba"));
+                // And the round trip closes: ABA of RNEA's torques gives back a.
+                for (x, y) in d.iter().zip(ak) {
+                    assert!((x - y).abs() < 1e-6 * (1.0 + y.abs()), "{what} aba∘rnea");
+                }
+                let m = crba(&model, &mut data, qk).unwrap();
+                let nn = nv * nv;
+                assert_rel(&mass[k * nn..(k + 1) * nn], m, &format!("{what} crba"));
+            }
+        }
+    }
+}
+
+#[test]
+fn a_bad_state_is_named_by_its_index_and_bad_lengths_are_errors() {
+    let (_, model) = all_models().remove(0);
+    let (nq, nv) = (model.nq(), model.nv());
+    let n = 9;
+    let (mut q, v, a) = states(&model, n, 5);
+    q[6 * nq] = f64::NAN;
+    let mut links = vec![Se3::IDENTITY; n * model.links().len()];
+    let mut batch = KinematicsBatch::new(&model);
+    let err = forward_kinematics_batch(&model, &mut batch, &q, &mut links, None).unwrap_err();
+    assert!(
+        matches!(&err, KinematicsError::InBatchState { index: 6, source } if matches!(**source, KinematicsError::NonFinite { what: "q", index: 0 })),
+        "{err:?}"
+    );
+    let mut dynamics = DynamicsBatch::new(&model);
+    let mut tau = vec![0.0; n * nv];
+    let err = rnea_batch(&model, &mut dynamics, &q, &v, &a, &mut tau).unwrap_err();
+    assert!(
+        matches!(&err, DynamicsError::InBatchState { index: 6, .. }),
+        "{err:?}"
+    );
+    // A q that is not a whole number of states, and outputs of the wrong size.
+    let err = forward_kinematics_batch(&model, &mut batch, &q[1..], &mut links, None).unwrap_err();
+    assert!(
+        matches!(err, KinematicsError::DimensionMismatch { what: "q", .. }),
+        "{err:?}"
+    );
+    let err = forward_kinematics_batch(&model, &mut batch, &q, &mut links[1..], None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            KinematicsError::DimensionMismatch {
+                what: "world_from_link",
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    let err = rnea_batch(&model, &mut dynamics, &q, &v, &a[1..], &mut tau).unwrap_err();
+    assert!(
+        matches!(err, DynamicsError::DimensionMismatch { what: "a", .. }),
+        "{err:?}"
+    );
+    let mut short = vec![0.0; n * nv - 1];
+    let err = aba_batch(&model, &mut dynamics, &q, &v, &a, &mut short).unwrap_err();
+    assert!(
+        matches!(err, DynamicsError::DimensionMismatch { what: "ddq", .. }),
+        "{err:?}"
+    );
+    // A batch built for another model.
+    let other = all_models().pop().unwrap().1;
+    let mut wrong = DynamicsBatch::new(&other);
+    let err = rnea_batch(&model, &mut wrong, &q, &v, &a, &mut tau).unwrap_err();
+    assert!(matches!(err, DynamicsError::DataMismatch { .. }), "{err:?}");
+}

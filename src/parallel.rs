@@ -1,0 +1,341 @@
+//! The batched algorithms on every core: the entry points of
+//! [`kinematics::batch`](crate::kinematics::batch) and [`dynamics::batch`](crate::dynamics::batch)
+//! with the same signatures, splitting the `N` states over rayon's thread pool.
+//!
+//! A [`Parallel`] holds one batch workspace per thread of the pool it is created in
+//! ([`rayon::current_num_threads`]); each thread evaluates a contiguous block of states with the
+//! vectorised one-core kernels. The results do not depend on the number of threads. Run inside
+//! [`rayon::ThreadPool::install`] to choose the pool. Nothing is allocated per call after
+//! [`Parallel::new`] (rayon's pool itself is started on first use).
+//!
+//! # Examples
+//! ```
+//! use kinetree::parallel::{Parallel, forward_kinematics_batch};
+//! use kinetree::kinematics::batch::KinematicsBatch;
+//! use kinetree::spatial::Se3;
+//! # fn main() -> Result<(), kinetree::Error> {
+//! let model = kinetree::model::samples::planar_2r(0.3, 0.2);
+//! let n = 1000;
+//! let q: Vec<f64> = (0..2 * n).map(|i| (i as f64 * 0.01).sin()).collect();
+//! let mut pool = Parallel::<KinematicsBatch>::new(&model);
+//! let mut links = vec![Se3::IDENTITY; n * model.links().len()];
+//! forward_kinematics_batch(&model, &mut pool, &q, &mut links, None)?;
+//! # Ok(())
+//! # }
+//! ```
+
+use crate::kinematics::batch::{self as kb, KinematicsBatch};
+use crate::kinematics::model::Model;
+use crate::kinematics::spatial::{Motion, Se3};
+use crate::kinematics::{FrameId, KinematicsError, ReferenceFrame};
+
+/// One batch workspace per thread of a rayon pool.
+#[derive(Clone, Debug)]
+pub struct Parallel<W> {
+    workers: Vec<W>,
+}
+
+/// A workspace of a batched algorithm that [`Parallel`] can hold one of per thread.
+pub trait Workspace: Send + Sized {
+    /// Allocates the workspace for `model`.
+    fn for_model(model: &Model) -> Self;
+}
+
+impl Workspace for KinematicsBatch {
+    fn for_model(model: &Model) -> Self {
+        KinematicsBatch::new(model)
+    }
+}
+
+#[cfg(feature = "dynamics")]
+impl Workspace for crate::dynamics::batch::DynamicsBatch {
+    fn for_model(model: &Model) -> Self {
+        crate::dynamics::batch::DynamicsBatch::new(model)
+    }
+}
+
+impl<W: Workspace> Parallel<W> {
+    /// One workspace for `model` per thread of the current rayon pool.
+    #[must_use]
+    pub fn new(model: &Model) -> Self {
+        Self::with_threads(model, rayon::current_num_threads())
+    }
+
+    /// `threads` workspaces for `model` (at least one): the batch is split in that many blocks.
+    #[must_use]
+    pub fn with_threads(model: &Model, threads: usize) -> Self {
+        Self {
+            workers: (0..threads.max(1)).map(|_| W::for_model(model)).collect(),
+        }
+    }
+}
+
+impl<W> Parallel<W> {
+    /// One workspace per block, built by `make` (for workspaces with options, such as
+    /// [`DynamicsBatch::with_joint_terms`](crate::dynamics::batch::DynamicsBatch::with_joint_terms)).
+    #[must_use]
+    pub fn from_fn(threads: usize, make: impl FnMut(usize) -> W) -> Self {
+        Self {
+            workers: (0..threads.max(1)).map(make).collect(),
+        }
+    }
+
+    /// The number of blocks a batch is split in.
+    #[must_use]
+    pub fn threads(&self) -> usize {
+        self.workers.len()
+    }
+}
+
+/// States per block are rounded to this, so that every block fills whole SIMD lanes.
+const ALIGN: usize = 8;
+
+/// A set of per-state buffers that splits at a state boundary.
+trait Split: Sized + Send {
+    fn split_at_state(self, k: usize) -> (Self, Self);
+}
+
+/// An input of `.1` numbers per state.
+struct In<'a, T>(&'a [T], usize);
+/// An output of `.1` numbers per state.
+struct Out<'a, T>(&'a mut [T], usize);
+
+impl<T: Sync> Split for In<'_, T> {
+    fn split_at_state(self, k: usize) -> (Self, Self) {
+        let (a, b) = self.0.split_at(k * self.1);
+        (In(a, self.1), In(b, self.1))
+    }
+}
+
+impl<T: Send> Split for Out<'_, T> {
+    fn split_at_state(self, k: usize) -> (Self, Self) {
+        let (a, b) = self.0.split_at_mut(k * self.1);
+        (Out(a, self.1), Out(b, self.1))
+    }
+}
+
+impl<S: Split> Split for Option<S> {
+    fn split_at_state(self, k: usize) -> (Self, Self) {
+        match self {
+            None => (None, None),
+            Some(s) => {
+                let (a, b) = s.split_at_state(k);
+                (Some(a), Some(b))
+            }
+        }
+    }
+}
+
+macro_rules! split_tuple {
+    ($($t:ident),+) => {
+        impl<$($t: Split),+> Split for ($($t,)+) {
+            #[allow(non_snake_case, reason = "the tuple's fields are named by their types")]
+            fn split_at_state(self, k: usize) -> (Self, Self) {
+                let ($($t,)+) = self;
+                $(let $t = $t.split_at_state(k);)+
+                (($($t.0,)+), ($($t.1,)+))
+            }
+        }
+    };
+}
+split_tuple!(A, B);
+split_tuple!(A, B, C);
+split_tuple!(A, B, C, D);
+
+/// Runs `f` on `workers.len()` blocks of the `n` states of `parts` in parallel; `f` gets the index
+/// of its block's first state. The first error (by state) wins.
+fn run<W: Send, S: Split, E: Send>(
+    workers: &mut [W],
+    n: usize,
+    first: usize,
+    parts: S,
+    f: &(impl Fn(&mut W, S, usize) -> Result<(), E> + Sync),
+) -> Result<(), E> {
+    if workers.len() == 1 || n <= ALIGN {
+        return f(&mut workers[0], parts, first);
+    }
+    let half = workers.len() / 2;
+    let k = (n * half / workers.len()).div_ceil(ALIGN) * ALIGN;
+    let k = k.min(n);
+    let (wa, wb) = workers.split_at_mut(half);
+    let (pa, pb) = parts.split_at_state(k);
+    let (ra, rb) = rayon::join(
+        || run(wa, k, first, pa, f),
+        || run(wb, n - k, first + k, pb, f),
+    );
+    ra.and(rb)
+}
+
+/// Moves a batch error of a block starting at state `first` to the whole batch's numbering.
+fn shift_kinematics(e: KinematicsError, first: usize) -> KinematicsError {
+    match e {
+        KinematicsError::InBatchState { index, source } => KinematicsError::InBatchState {
+            index: index + first,
+            source,
+        },
+        e => e,
+    }
+}
+
+/// [`kinematics::batch::forward_kinematics_batch`](kb::forward_kinematics_batch) on every core.
+///
+/// # Errors
+/// As the one-core function; a bad state is reported with its index in the whole batch.
+pub fn forward_kinematics_batch(
+    model: &Model,
+    pool: &mut Parallel<KinematicsBatch>,
+    q: &[f64],
+    world_from_link: &mut [Se3],
+    world_from_frame: Option<&mut [Se3]>,
+) -> Result<(), KinematicsError> {
+    let (nq, nl, nf) = (model.nq(), model.links().len(), model.frames().len());
+    let n = kb::batch_size("world_from_link", world_from_link.len(), nl)?;
+    // The one-core function checks every length; here only the block split needs them to agree.
+    if q.len() != n * nq || world_from_frame.as_ref().is_some_and(|f| f.len() != n * nf) {
+        return kb::forward_kinematics_batch(
+            model,
+            &mut pool.workers[0],
+            q,
+            world_from_link,
+            world_from_frame,
+        );
+    }
+    let parts = (
+        In(q, nq),
+        Out(world_from_link, nl),
+        world_from_frame.map(|f| Out(f, nf)),
+    );
+    run(&mut pool.workers, n, 0, parts, &|w, (q, l, f), first| {
+        kb::forward_kinematics_batch(model, w, q.0, l.0, f.map(|f| f.0))
+            .map_err(|e| shift_kinematics(e, first))
+    })
+}
+
+/// [`kinematics::batch::frame_jacobian_batch`](kb::frame_jacobian_batch) on every core.
+///
+/// # Errors
+/// As the one-core function; a bad state is reported with its index in the whole batch.
+pub fn frame_jacobian_batch(
+    model: &Model,
+    pool: &mut Parallel<KinematicsBatch>,
+    q: &[f64],
+    frame: FrameId,
+    reference: ReferenceFrame,
+    out: &mut [Motion],
+) -> Result<(), KinematicsError> {
+    let (nq, nv) = (model.nq(), model.nv());
+    let n = if nq > 0 {
+        kb::batch_size("q", q.len(), nq)?
+    } else {
+        kb::batch_size("jacobian", out.len(), nv)?
+    };
+    if out.len() != n * nv || q.len() != n * nq {
+        return kb::frame_jacobian_batch(model, &mut pool.workers[0], q, frame, reference, out);
+    }
+    let parts = (In(q, nq), Out(out, nv));
+    run(&mut pool.workers, n, 0, parts, &|w, (q, o), first| {
+        kb::frame_jacobian_batch(model, w, q.0, frame, reference, o.0)
+            .map_err(|e| shift_kinematics(e, first))
+    })
+}
+
+#[cfg(feature = "dynamics")]
+pub use dynamics::{aba_batch, crba_batch, rnea_batch};
+
+#[cfg(feature = "dynamics")]
+mod dynamics {
+    use super::{In, Out, Parallel, run};
+    use crate::dynamics::DynamicsError;
+    use crate::dynamics::batch::{self as db, DynamicsBatch};
+    use crate::kinematics::batch::batch_size;
+    use crate::kinematics::model::Model;
+
+    fn shift(e: DynamicsError, first: usize) -> DynamicsError {
+        match e {
+            DynamicsError::InBatchState { index, source } => DynamicsError::InBatchState {
+                index: index + first,
+                source,
+            },
+            e => e,
+        }
+    }
+
+    /// The number of states, or `None` when the lengths disagree (the one-core function then
+    /// reports which).
+    fn states(model: &Model, q: usize, vs: &[usize], per_out: usize) -> Option<usize> {
+        let (nq, nv) = (model.nq(), model.nv());
+        let n = if nq > 0 {
+            batch_size("q", q, nq).ok()?
+        } else {
+            batch_size("out", *vs.last()?, per_out).ok()?
+        };
+        let ok = q == n * nq
+            && vs[..vs.len() - 1].iter().all(|&l| l == n * nv)
+            && vs[vs.len() - 1] == n * per_out;
+        ok.then_some(n)
+    }
+
+    /// [`dynamics::batch::rnea_batch`](db::rnea_batch) on every core.
+    ///
+    /// # Errors
+    /// As the one-core function; a bad state is reported with its index in the whole batch.
+    pub fn rnea_batch(
+        model: &Model,
+        pool: &mut Parallel<DynamicsBatch>,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        tau: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let (nq, nv) = (model.nq(), model.nv());
+        let Some(n) = states(model, q.len(), &[v.len(), a.len(), tau.len()], nv) else {
+            return db::rnea_batch(model, &mut pool.workers[0], q, v, a, tau);
+        };
+        let parts = (In(q, nq), In(v, nv), In(a, nv), Out(tau, nv));
+        run(&mut pool.workers, n, 0, parts, &|w, (q, v, a, t), first| {
+            db::rnea_batch(model, w, q.0, v.0, a.0, t.0).map_err(|e| shift(e, first))
+        })
+    }
+
+    /// [`dynamics::batch::aba_batch`](db::aba_batch) on every core.
+    ///
+    /// # Errors
+    /// As the one-core function; a bad state is reported with its index in the whole batch.
+    pub fn aba_batch(
+        model: &Model,
+        pool: &mut Parallel<DynamicsBatch>,
+        q: &[f64],
+        v: &[f64],
+        tau: &[f64],
+        ddq: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let (nq, nv) = (model.nq(), model.nv());
+        let Some(n) = states(model, q.len(), &[v.len(), tau.len(), ddq.len()], nv) else {
+            return db::aba_batch(model, &mut pool.workers[0], q, v, tau, ddq);
+        };
+        let parts = (In(q, nq), In(v, nv), In(tau, nv), Out(ddq, nv));
+        run(&mut pool.workers, n, 0, parts, &|w, (q, v, t, o), first| {
+            db::aba_batch(model, w, q.0, v.0, t.0, o.0).map_err(|e| shift(e, first))
+        })
+    }
+
+    /// [`dynamics::batch::crba_batch`](db::crba_batch) on every core.
+    ///
+    /// # Errors
+    /// As the one-core function; a bad state is reported with its index in the whole batch.
+    pub fn crba_batch(
+        model: &Model,
+        pool: &mut Parallel<DynamicsBatch>,
+        q: &[f64],
+        mass_matrix: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let (nq, nv) = (model.nq(), model.nv());
+        let Some(n) = states(model, q.len(), &[mass_matrix.len()], nv * nv) else {
+            return db::crba_batch(model, &mut pool.workers[0], q, mass_matrix);
+        };
+        let parts = (In(q, nq), Out(mass_matrix, nv * nv));
+        run(&mut pool.workers, n, 0, parts, &|w, (q, m), first| {
+            db::crba_batch(model, w, q.0, m.0).map_err(|e| shift(e, first))
+        })
+    }
+}

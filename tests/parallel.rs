@@ -1,0 +1,111 @@
+//! `kinetree::parallel` against the one-core batched functions: the same numbers for any number
+//! of blocks, and a bad state named by its index in the whole batch.
+
+use kinetree::dynamics::DynamicsError;
+use kinetree::dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
+use kinetree::kinematics::batch::{
+    KinematicsBatch, forward_kinematics_batch, frame_jacobian_batch,
+};
+use kinetree::kinematics::configuration::random_configuration;
+use kinetree::kinematics::{FrameId, KinematicsError, ReferenceFrame};
+use kinetree::model::{Model, RootJoint};
+use kinetree::parallel::{self as par, Parallel};
+use kinetree::spatial::{Motion, Se3};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+fn robot(file: &str, root: RootJoint) -> Model {
+    let path = format!(
+        "{}/tests/data/reference/urdf/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    Model::from_urdf_file(path, root).unwrap()
+}
+
+fn states(model: &Model, n: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut rng = SmallRng::seed_from_u64(3);
+    let mut q = vec![0.0; n * model.nq()];
+    for qk in q.chunks_mut(model.nq()) {
+        random_configuration(model, &mut rng, qk).unwrap();
+    }
+    let mut uniform = || -> Vec<f64> {
+        (0..n * model.nv())
+            .map(|_| rng.random_range(-2.0..2.0))
+            .collect()
+    };
+    let v = uniform();
+    let a = uniform();
+    (q, v, a)
+}
+
+#[test]
+fn every_split_gives_the_one_core_numbers() {
+    for (file, root) in [
+        ("panda.urdf", RootJoint::Fixed),
+        ("solo12.urdf", RootJoint::Floating),
+    ] {
+        let model = robot(file, root);
+        let n = 37;
+        let (nl, nv) = (model.links().len(), model.nv());
+        let (q, v, a) = states(&model, n);
+        let frame = FrameId::Link(nl - 1);
+        let mut kb = KinematicsBatch::new(&model);
+        let mut links = vec![Se3::IDENTITY; n * nl];
+        forward_kinematics_batch(&model, &mut kb, &q, &mut links, None).unwrap();
+        let mut jac = vec![Motion::ZERO; n * nv];
+        frame_jacobian_batch(&model, &mut kb, &q, frame, ReferenceFrame::Local, &mut jac).unwrap();
+        let mut db = DynamicsBatch::new(&model);
+        let (mut tau, mut ddq, mut mass) =
+            (vec![0.0; n * nv], vec![0.0; n * nv], vec![0.0; n * nv * nv]);
+        rnea_batch(&model, &mut db, &q, &v, &a, &mut tau).unwrap();
+        aba_batch(&model, &mut db, &q, &v, &a, &mut ddq).unwrap();
+        crba_batch(&model, &mut db, &q, &mut mass).unwrap();
+        for threads in [1, 2, 3, 8] {
+            let mut pk = Parallel::<KinematicsBatch>::with_threads(&model, threads);
+            let mut pl = vec![Se3::IDENTITY; n * nl];
+            par::forward_kinematics_batch(&model, &mut pk, &q, &mut pl, None).unwrap();
+            assert_eq!(pl, links, "{file}: {threads} blocks");
+            let mut pj = vec![Motion::ZERO; n * nv];
+            par::frame_jacobian_batch(&model, &mut pk, &q, frame, ReferenceFrame::Local, &mut pj)
+                .unwrap();
+            assert_eq!(pj, jac, "{file}: {threads} blocks");
+            let mut pd = Parallel::<DynamicsBatch>::with_threads(&model, threads);
+            let mut out = vec![0.0; n * nv];
+            par::rnea_batch(&model, &mut pd, &q, &v, &a, &mut out).unwrap();
+            assert_eq!(out, tau, "{file}: {threads} blocks");
+            par::aba_batch(&model, &mut pd, &q, &v, &a, &mut out).unwrap();
+            assert_eq!(out, ddq, "{file}: {threads} blocks");
+            let mut pm = vec![0.0; n * nv * nv];
+            par::crba_batch(&model, &mut pd, &q, &mut pm).unwrap();
+            assert_eq!(pm, mass, "{file}: {threads} blocks");
+        }
+    }
+}
+
+#[test]
+fn a_bad_state_keeps_its_index_across_blocks() {
+    let model = robot("panda.urdf", RootJoint::Fixed);
+    let n = 40;
+    let (mut q, v, a) = states(&model, n);
+    q[33 * model.nq() + 2] = f64::INFINITY;
+    let mut pk = Parallel::<KinematicsBatch>::with_threads(&model, 2);
+    let mut links = vec![Se3::IDENTITY; n * model.links().len()];
+    let err = par::forward_kinematics_batch(&model, &mut pk, &q, &mut links, None).unwrap_err();
+    assert!(
+        matches!(err, KinematicsError::InBatchState { index: 33, .. }),
+        "{err:?}"
+    );
+    let mut pd = Parallel::<DynamicsBatch>::with_threads(&model, 2);
+    let mut tau = vec![0.0; n * model.nv()];
+    let err = par::rnea_batch(&model, &mut pd, &q, &v, &a, &mut tau).unwrap_err();
+    assert!(
+        matches!(err, DynamicsError::InBatchState { index: 33, .. }),
+        "{err:?}"
+    );
+    // Lengths that do not make whole states are reported as the one-core function does.
+    let err = par::rnea_batch(&model, &mut pd, &q, &v[1..], &a, &mut tau).unwrap_err();
+    assert!(
+        matches!(err, DynamicsError::DimensionMismatch { what: "v", .. }),
+        "{err:?}"
+    );
+}
