@@ -2,10 +2,9 @@
 
 use super::data::{AbaDerivatives, DerivativesData};
 use super::rnea::sweep;
-use crate::data::NO_PARENT;
 use crate::error::{DynamicsError, check_vector};
 use crate::external::ExternalForces;
-use crate::factor::{factorize, invert};
+use crate::factor::factorize;
 use crate::rnea::check_inputs;
 use kinetree_kinematics::model::Model;
 
@@ -93,63 +92,20 @@ fn compute<'d>(
     let dynamics = &mut data.dynamics;
     dynamics.mass_matrix.copy_from_slice(&data.dtau_da);
     factorize(model, dynamics)?;
-    invert(dynamics);
-    let nv = data.nv;
-    let parent = &data.dynamics.dof_parent;
     let factor = &data.dynamics.factor;
-    for (from, to) in [
-        (&data.dtau_dq, &mut data.dddq_dq),
-        (&data.dtau_dv, &mut data.dddq_dv),
-    ] {
-        for (o, i) in to.iter_mut().zip(from.iter()) {
-            *o = -i;
-        }
-        solve_rows(factor, parent, nv, to);
-    }
+    data.tree
+        .invert(factor, &mut data.dynamics.mass_matrix_inverse);
+    data.tree.neg_solve_pair(
+        factor,
+        &data.dtau_dq,
+        &data.dtau_dv,
+        &mut data.dddq_dq,
+        &mut data.dddq_dv,
+    );
     Ok(AbaDerivatives {
         ddq: &data.ddq,
         dddq_dq: &data.dddq_dq,
         dddq_dv: &data.dddq_dv,
         dddq_dtau: &data.dynamics.mass_matrix_inverse,
     })
-}
-
-/// `X ← M⁻¹·X` for a row-major `nv x n` matrix `X` (here `n = nv`), with `M = Lᵀ·D·L` from the
-/// tree-sparse factorization in `h`: whole rows are combined along the ancestor chains only, so
-/// the cost is `2·n·Σ depth` multiply-adds on contiguous rows (no gather or scatter of columns).
-fn solve_rows(h: &[f64], parent: &[usize], nv: usize, x: &mut [f64]) {
-    let n = x.len().checked_div(nv).unwrap_or(0);
-    // Lᵀ·Y = X, from the leaves up: row j -= L[i][j]·row i for each ancestor j of i.
-    for i in (0..nv).rev() {
-        let (head, tail) = x.split_at_mut(i * n);
-        let row_i = &tail[..n];
-        let mut j = parent[i];
-        while j != NO_PARENT {
-            let l = h[i * nv + j];
-            for (a, b) in head[j * n..(j + 1) * n].iter_mut().zip(row_i) {
-                *a -= l * b;
-            }
-            j = parent[j];
-        }
-    }
-    // D·Z = Y.
-    for i in 0..nv {
-        let d = 1.0 / h[i * nv + i];
-        for a in &mut x[i * n..(i + 1) * n] {
-            *a *= d;
-        }
-    }
-    // L·X = Z, from the root down: row i -= L[i][j]·row j for each ancestor j of i.
-    for i in 0..nv {
-        let (head, tail) = x.split_at_mut(i * n);
-        let row_i = &mut tail[..n];
-        let mut j = parent[i];
-        while j != NO_PARENT {
-            let l = h[i * nv + j];
-            for (a, b) in row_i.iter_mut().zip(&head[j * n..(j + 1) * n]) {
-                *a -= l * b;
-            }
-            j = parent[j];
-        }
-    }
 }

@@ -1,5 +1,6 @@
 //! [`DerivativesData`]: the buffers of the derivative algorithms, and their borrowed results.
 
+use super::solve::DofTree;
 use crate::data::{DynamicsData, JointTerms};
 use crate::error::DynamicsError;
 use kinetree_kinematics::model::Model;
@@ -130,6 +131,8 @@ pub struct DerivativesData {
     pub(crate) ddq: Vec<f64>,
     pub(crate) dddq_dq: Vec<f64>,
     pub(crate) dddq_dv: Vec<f64>,
+    /// The ancestor lists for `M⁻¹` and the solves.
+    pub(crate) tree: DofTree,
 }
 
 /// The partial derivatives of inverse dynamics, borrowed from a [`DerivativesData`]; each is
@@ -186,8 +189,10 @@ impl DerivativesData {
         let m = |n| vec![Motion::ZERO; n];
         let f = |n| vec![Force::ZERO; n];
         let x = |n| vec![0.0; n];
+        let dynamics = DynamicsData::with_joint_terms(model, joint_terms);
+        let tree = DofTree::new(&dynamics.dof_parent);
         Self {
-            dynamics: DynamicsData::with_joint_terms(model, joint_terms),
+            dynamics,
             nv,
             nv_subtree,
             world_from_body: vec![Se3::IDENTITY; nb],
@@ -214,6 +219,7 @@ impl DerivativesData {
             ddq: x(nv),
             dddq_dq: x(nv * nv),
             dddq_dv: x(nv * nv),
+            tree,
         }
     }
 
