@@ -40,6 +40,65 @@ impl WorldInertia {
     }
 }
 
+/// A symmetric 6x6 inertia (rigid or articulated) in world coordinates, in 3x3 blocks
+/// `[[a, b], [bᵀ, c]]` acting on `[linear; angular]` motions.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Articulated {
+    a: DMat3,
+    b: DMat3,
+    c: DMat3,
+}
+
+impl Articulated {
+    pub(crate) const ZERO: Self = Self {
+        a: DMat3::ZERO,
+        b: DMat3::ZERO,
+        c: DMat3::ZERO,
+    };
+
+    /// `self += y` for a rigid inertia `y`.
+    #[inline(always)]
+    pub(crate) fn add_rigid(&mut self, y: &WorldInertia) {
+        self.a += DMat3::from_diagonal(DVec3::splat(y.m));
+        self.b -= skew(y.h);
+        self.c += y.i;
+    }
+
+    /// The momentum `self·s`.
+    #[inline(always)]
+    pub(crate) fn mul(&self, s: &Motion) -> Force {
+        let (v, w) = (s.linear, s.angular);
+        let b = &self.b;
+        Force::new(
+            self.a * v + *b * w,
+            DVec3::new(b.x_axis.dot(v), b.y_axis.dot(v), b.z_axis.dot(v)) + self.c * w,
+        )
+    }
+
+    /// `self -= x·yᵀ` (`x·yᵀ` symmetric).
+    #[inline(always)]
+    pub(crate) fn sub_outer(&mut self, x: &Force, y: &Force) {
+        let outer = |p: DVec3, q: DVec3| DMat3::from_cols(p * q.x, p * q.y, p * q.z);
+        self.a -= outer(x.linear, y.linear);
+        self.b -= outer(x.linear, y.angular);
+        self.c -= outer(x.angular, y.angular);
+    }
+
+    #[inline(always)]
+    pub(crate) fn add_assign(&mut self, o: &Self) {
+        self.a += o.a;
+        self.b += o.b;
+        self.c += o.c;
+    }
+
+    /// A magnitude for pivot tolerances: the traces of the diagonal blocks.
+    #[inline(always)]
+    pub(crate) fn scale(&self) -> f64 {
+        (self.a.x_axis.x + self.a.y_axis.y + self.a.z_axis.z).abs()
+            + (self.c.x_axis.x + self.c.y_axis.y + self.c.z_axis.z).abs()
+    }
+}
+
 /// The skew matrix `[x]×` with `[x]×·y = x × y`.
 #[inline(always)]
 pub(crate) fn skew(x: DVec3) -> DMat3 {
@@ -105,6 +164,8 @@ pub struct DerivativesData {
     pub(crate) world_from_body: Vec<Se3>,
     pub(crate) velocity: Vec<Motion>,
     pub(crate) acceleration: Vec<Motion>,
+    /// The velocity-product acceleration `v_parent × v_joint`.
+    pub(crate) bias: Vec<Motion>,
     pub(crate) force: Vec<Force>,
     pub(crate) composite: Vec<WorldInertia>,
     /// Subtree sum of the linear momenta (the `b` block of the inertia variation is `-2[p]×`).
@@ -122,6 +183,13 @@ pub struct DerivativesData {
     pub(crate) df_dv: Vec<Force>,
     pub(crate) df_da: Vec<Force>,
     pub(crate) zeros: Vec<f64>,
+    // Forward dynamics: per body, the articulated inertias and bias forces; per degree of
+    // freedom, `U = Iᴬ·s`, `1/D` and `u` of the articulated-body algorithm.
+    pub(crate) articulated: Vec<Articulated>,
+    pub(crate) articulated_force: Vec<Force>,
+    pub(crate) u_column: Vec<Force>,
+    pub(crate) pivot_inverse: Vec<f64>,
+    pub(crate) u: Vec<f64>,
     // Results.
     pub(crate) tau: Vec<f64>,
     pub(crate) dtau_dq: Vec<f64>,
@@ -198,6 +266,7 @@ impl DerivativesData {
             world_from_body: vec![Se3::IDENTITY; nb],
             velocity: m(nb),
             acceleration: m(nb),
+            bias: m(nb),
             force: f(nb),
             composite: vec![WorldInertia::ZERO; nb],
             momentum: vec![DVec3::ZERO; nb],
@@ -211,6 +280,11 @@ impl DerivativesData {
             df_dv: f(nv),
             df_da: f(nv),
             zeros: x(nv),
+            articulated: vec![Articulated::ZERO; nb],
+            articulated_force: f(nb),
+            u_column: f(nv),
+            pivot_inverse: x(nv),
+            u: x(nv),
             tau: x(nv),
             dtau_dq: x(nv * nv),
             dtau_dv: x(nv * nv),

@@ -31,8 +31,10 @@
 //! carries unchanged, so only the velocity-, acceleration- and force-dependent parts need
 //! propagating. O(n·d) for a tree of n degrees of freedom and depth d. Forward-dynamics
 //! derivatives follow from `M·q̈ = τ - b(q, v)`: `∂q̈/∂x = -M⁻¹·∂τ/∂x` evaluated at `q̈ =
-//! aba(q, v, τ)`, with `M⁻¹` and the solves from the tree-sparse factorization
-//! ([`factorize_mass_matrix`](crate::factorize_mass_matrix)), never a dense inverse.
+//! aba(q, v, τ)`, with `M⁻¹` and the solves from the tree-sparse factorization `M = Lᵀ·D·L`
+//! (as [`factorize_mass_matrix`](crate::factorize_mass_matrix)), never a dense inverse. The
+//! articulated-body pass that gives `q̈` gives that factorization too: its pivots are `D`, and
+//! `L[i][j] = s_jᵀ·U_i / D_i` for each ancestor `j` of `i` (`U_i = Iᴬ·s_i`).
 
 mod aba;
 mod data;

@@ -6,7 +6,7 @@ use crate::error::DynamicsError;
 use crate::external::ExternalForces;
 use crate::rnea::check_inputs;
 use kinetree_kinematics::ReferenceFrame;
-use kinetree_kinematics::model::Model;
+use kinetree_kinematics::model::{Body, Model};
 use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
 use kinetree_kinematics::spatial::{Force, Motion};
 
@@ -135,43 +135,52 @@ pub(super) fn sweep<const FULL: bool>(
     fext: Option<&ExternalForces>,
     dq: &mut [f64],
 ) {
-    let nv = data.nv;
-    let bodies = model.bodies();
-    let nb = bodies.len();
-    let dynamics = &data.dynamics;
-    let joint_models = dynamics.kinematics.joint_models();
+    forward_velocity(model, data, q, v);
+    let has_external = apply_external(data, fext);
     let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
-    // Forward: placements, velocities, accelerations, forces and the per-column derivatives of
-    // velocity and acceleration that do not come from the rigid motion of the subtree.
-    for i in 1..nb {
+    let bodies = model.bodies();
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        let ap = if b.parent == 0 {
+            a0
+        } else {
+            data.acceleration[b.parent]
+        };
+        let mut ai = ap + data.bias[i];
+        for d in b.idx_v..b.idx_v + b.nv {
+            ai += data.s[d] * a[d];
+        }
+        forward_acceleration(data, i, b, ap, ai);
+    }
+    backward::<FULL>(model, data, v, a, has_external, dq);
+}
+
+/// Forward, what does not depend on the acceleration: placements, velocities, the velocity
+/// product bias `c = v_parent × v_joint`, rigid inertias, bias forces `v × (Y·v)` and the
+/// per-column derivatives of velocity.
+pub(super) fn forward_velocity(model: &Model, data: &mut DerivativesData, q: &[f64], v: &[f64]) {
+    let bodies = model.bodies();
+    let joint_models = data.dynamics.kinematics.joint_models();
+    for i in 1..bodies.len() {
         let b = &bodies[i];
         let jm = &joint_models[i];
         let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
         let p = b.parent;
-        let (omi, vp, ap) = if p == 0 {
-            (x, Motion::ZERO, a0)
+        let (omi, vp) = if p == 0 {
+            (x, Motion::ZERO)
         } else {
-            (
-                data.world_from_body[p] * x,
-                data.velocity[p],
-                data.acceleration[p],
-            )
+            (data.world_from_body[p] * x, data.velocity[p])
         };
         data.world_from_body[i] = omi;
         let mut vj = Motion::ZERO;
-        let mut aj = Motion::ZERO;
         for k in 0..b.nv {
             let d = b.idx_v + k;
             let s = omi.act_motion(&jm.subspace_column(k));
             data.s[d] = s;
             vj += s * v[d];
-            aj += s * a[d];
-            let dv = vp.cross_motion(&s);
-            data.dv_dq[d] = dv;
-            data.da_dq[d] = ap.cross_motion(&s) + vp.cross_motion(&dv);
+            data.dv_dq[d] = vp.cross_motion(&s);
         }
         let vi = vp + vj;
-        let ai = ap + aj + vi.cross_motion(&vj);
         for d in b.idx_v..b.idx_v + b.nv {
             data.da_dv[d] = vi.cross_motion(&data.s[d]) + data.dv_dq[d];
         }
@@ -187,13 +196,42 @@ pub(super) fn sweep<const FULL: bool>(
         };
         let h = y.mul(&vi);
         data.velocity[i] = vi;
-        data.acceleration[i] = ai;
-        data.force[i] = y.mul(&ai) + vi.cross_force(&h);
+        data.bias[i] = vp.cross_motion(&vj);
+        data.force[i] = vi.cross_force(&h);
         data.momentum[i] = h.linear;
         data.variation[i] = variation_block(&y, &vi, &h);
         data.composite[i] = y;
         data.external[i] = Blocks::ZERO;
     }
+}
+
+/// Forward, for body `i` (`b`) with parent acceleration `ap` and acceleration `ai` (gravity
+/// included): stores `ai`, adds `Y·ai` to the body's force and fills the per-column
+/// derivatives of acceleration.
+#[inline(always)]
+pub(super) fn forward_acceleration(
+    data: &mut DerivativesData,
+    i: usize,
+    b: &Body,
+    ap: Motion,
+    ai: Motion,
+) {
+    let vp = if b.parent == 0 {
+        Motion::ZERO
+    } else {
+        data.velocity[b.parent]
+    };
+    for d in b.idx_v..b.idx_v + b.nv {
+        data.da_dq[d] = ap.cross_motion(&data.s[d]) + vp.cross_motion(&data.dv_dq[d]);
+    }
+    data.acceleration[i] = ai;
+    let f = data.composite[i].mul(&ai);
+    data.force[i] += f;
+}
+
+/// Subtracts the external wrenches from the bodies' forces and records the parts of their
+/// derivatives that the rigid motion of the bodies does not explain; whether there were any.
+pub(super) fn apply_external(data: &mut DerivativesData, fext: Option<&ExternalForces>) -> bool {
     let mut has_external = false;
     if let Some(fext) = fext {
         let force = &mut data.force;
@@ -225,6 +263,21 @@ pub(super) fn sweep<const FULL: bool>(
             has_external = true;
         });
     }
+    has_external
+}
+
+/// Backward: composite quantities and the matrix rows (the forward passes done at `a`).
+pub(super) fn backward<const FULL: bool>(
+    model: &Model,
+    data: &mut DerivativesData,
+    v: &[f64],
+    a: &[f64],
+    has_external: bool,
+    dq: &mut [f64],
+) {
+    let nv = data.nv;
+    let bodies = model.bodies();
+    let nb = bodies.len();
     dq.fill(0.0);
     if FULL {
         data.dtau_dv.fill(0.0);

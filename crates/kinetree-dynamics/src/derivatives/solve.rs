@@ -110,6 +110,12 @@ impl DofTree {
         }
     }
 
+    /// The strict ancestors of degree of freedom `i`, ascending.
+    #[inline(always)]
+    pub(crate) fn ancestors(&self, i: usize) -> &[usize] {
+        &self.anc[self.anc_start[i]..self.anc_start[i + 1]]
+    }
+
     /// The ancestors of `i`, and `L[i][j]` along them in `l` (`h` is the factor).
     #[inline(always)]
     fn row<'a>(
