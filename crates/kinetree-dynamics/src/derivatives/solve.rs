@@ -1,17 +1,21 @@
 //! `M⁻¹` and `-M⁻¹·X` from the tree-sparse factorization `M = Lᵀ·D·L`, on whole rows.
 //!
 //! Every product walks the ancestor lists of the degrees of freedom (precomputed once in
-//! [`DofTree`]) and keeps a chunk of up to 8 columns of the row being built in registers while
+//! [`DofTree`]) and keeps a chunk of up to 16 columns of the row being built in registers while
 //! it accumulates over the ancestors, so each multiply-add costs one load instead of a load, a
 //! load and a store.
 
 use crate::data::NO_PARENT;
 
-/// Runs `$f::<W>(args.., c)` over the columns `lo..hi` in chunks of `W` = 8, then 4, 2 and 1.
+/// Runs `$f::<W>(args.., c)` over the columns `lo..hi` in chunks of `W` = 16, then 8, 4, 2 and 1.
 macro_rules! by_chunks {
     ($lo:expr, $hi:expr, $f:ident $(<$($g:tt),*>)? ( $($arg:expr),* )) => {{
         let (mut c, hi) = ($lo, $hi);
-        while c + 8 <= hi {
+        while c + 16 <= hi {
+            $f::<$($($g,)*)? 16>($($arg,)* c);
+            c += 16;
+        }
+        if c + 8 <= hi {
             $f::<$($($g,)*)? 8>($($arg,)* c);
             c += 8;
         }
