@@ -301,10 +301,21 @@ pub(crate) fn check_vector(
             actual: x.len(),
         });
     }
-    if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+    if let Some(index) = first_non_finite(x) {
         return Err(KinematicsError::NonFinite { what, index });
     }
     Ok(())
+}
+
+/// The index of the first entry of `x` that is not finite. The usual all-finite case is one
+/// branch-free pass that the compiler vectorises; only a failure searches for the index.
+#[inline]
+pub(crate) fn first_non_finite(x: &[f64]) -> Option<usize> {
+    if x.iter().fold(true, |ok, v| ok & v.is_finite()) {
+        None
+    } else {
+        x.iter().position(|v| !v.is_finite())
+    }
 }
 
 /// Checks a configuration: its length, finiteness, and that every quaternion's norm is within
