@@ -1,7 +1,7 @@
 //! The kinematics layer's error type.
 
 use core::fmt;
-use kinetree_model::{JointKind, Model, ModelError};
+use kinetree_model::{Model, ModelError};
 
 /// How far from 1 the norm of a configuration's quaternion (spherical and floating joints) may
 /// be: within it the quaternion is normalized, beyond it the configuration is refused with
@@ -322,15 +322,10 @@ pub(crate) fn first_non_finite(x: &[f64]) -> Option<usize> {
 /// [`QUATERNION_NORM_TOLERANCE`] of 1. Allocates nothing unless it fails.
 pub(crate) fn check_q(model: &Model, what: &'static str, q: &[f64]) -> Result<(), KinematicsError> {
     check_vector(what, q, model.nq())?;
-    for b in model.bodies().iter().skip(1) {
-        let start = match b.kind {
-            JointKind::Spherical => b.idx_q,
-            JointKind::Floating => b.idx_q + 3,
-            _ => continue,
-        };
+    for &(body, start) in model.quaternion_blocks() {
         let norm = quaternion_norm(&q[start..start + 4]);
         if (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
-            let joint = b
+            let joint = model.bodies()[body]
                 .joint
                 .map_or_else(|| "root".to_string(), |j| model.joint(j).name.clone());
             return Err(KinematicsError::NonUnitQuaternion { joint, norm });

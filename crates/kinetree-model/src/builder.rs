@@ -791,6 +791,15 @@ impl ModelBuilder {
             bodies[p].subtree_end = bodies[p].subtree_end.max(end);
         }
 
+        let quaternion_blocks = bodies
+            .iter()
+            .enumerate()
+            .filter_map(|(b, body)| match body.kind {
+                JointKind::Spherical => Some((b, body.idx_q)),
+                JointKind::Floating => Some((b, body.idx_q + 3)),
+                _ => None,
+            })
+            .collect();
         let index = |names: &mut dyn Iterator<Item = &String>| -> HashMap<String, usize> {
             names.enumerate().map(|(i, n)| (n.clone(), i)).collect()
         };
@@ -815,6 +824,7 @@ impl ModelBuilder {
             joint_body,
             nq,
             nv,
+            quaternion_blocks,
             gravity: self.gravity.unwrap_or(DVec3::new(0.0, 0.0, -9.81)),
             ignored: self.ignored.clone(),
             warnings: Vec::new(),

@@ -126,6 +126,7 @@ pub struct Model {
     pub(crate) joint_body: Vec<Option<usize>>,
     pub(crate) nq: usize,
     pub(crate) nv: usize,
+    pub(crate) quaternion_blocks: Vec<(usize, usize)>,
     pub(crate) gravity: DVec3,
     pub(crate) ignored: Vec<String>,
     pub(crate) warnings: Vec<crate::error::Issue>,
@@ -143,6 +144,15 @@ impl Model {
     #[must_use]
     pub fn nq(&self) -> usize {
         self.nq
+    }
+
+    /// The unit quaternions of the configuration: `(body, start)` for every spherical or floating
+    /// joint, its quaternion being `q[start..start + 4]` (x, y, z, w), in body order. What the
+    /// configuration checks walk instead of every body.
+    #[inline]
+    #[must_use]
+    pub fn quaternion_blocks(&self) -> &[(usize, usize)] {
+        &self.quaternion_blocks
     }
 
     /// Size of the velocity vectors `v`, `a`, `tau`.

@@ -122,6 +122,10 @@ fn a_floating_root_attaches_only_the_parentless_link() {
     assert_eq!(m.nq(), 3 + 7);
     let root = m.joint(0);
     assert_eq!(m.link(root.child_link).name, "drone");
+    // Its quaternion is the last four of its seven coordinates.
+    let drone = m.link_body(root.child_link).0;
+    let start = m.bodies()[drone].idx_q + 3;
+    assert_eq!(m.quaternion_blocks(), &[(drone, start)]);
     // Without a parentless link, there is nothing to float.
     let mut b = two_robots();
     b.root_joint(RootJoint::Floating);
@@ -243,6 +247,9 @@ fn joint_values_survive_export_and_import_with_per_coordinate_units() {
         JointSpec::new("ball", JointKind::Spherical, "slider", "ball"),
     );
     let m = b.build().unwrap();
+    // The ball's quaternion follows the cylindrical joint's two coordinates.
+    let ball = m.link_body(m.link_index("ball").unwrap()).0;
+    assert_eq!(m.quaternion_blocks(), &[(ball, 2)]);
     let s = 0.5f64.sqrt();
     let q = [0.25, 0.5, 0.0, 0.0, s, s];
     let json = m
