@@ -3,6 +3,7 @@
 use crate::data::DynamicsData;
 use crate::error::DynamicsError;
 use crate::rnea::check_inputs;
+use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Force;
 
@@ -51,8 +52,30 @@ pub fn crba<'d>(
 ) -> Result<&'d [f64], DynamicsError> {
     check_inputs(model, data, q, None, None)?;
     compute(model, data, q);
-    crate::error::check_output(model, data, "mass matrix", &data.mass_matrix)?;
+    check_mass_matrix(model, data)?;
     Ok(&data.mass_matrix)
+}
+
+/// The output check of [`crba`]: every entry of the mass matrix is finite. The entries are
+/// summed in eight independent lanes (a non-finite entry makes the sum non-finite), which is a
+/// few vector additions per row; only a sum that is not finite (a bad entry, or finite entries
+/// whose sum overflows) searches for the entry to name.
+fn check_mass_matrix(model: &Model, data: &DynamicsData) -> Result<(), DynamicsError> {
+    let m = &data.mass_matrix;
+    let mut acc = [0.0f64; 8];
+    let mut chunks = m.chunks_exact(8);
+    for c in &mut chunks {
+        for (a, x) in acc.iter_mut().zip(c) {
+            *a += x;
+        }
+    }
+    for (a, x) in acc.iter_mut().zip(chunks.remainder()) {
+        *a += x;
+    }
+    if acc.iter().sum::<f64>().is_finite() {
+        return Ok(());
+    }
+    crate::error::check_output(model, data, "mass matrix", m)
 }
 
 /// The CRBA sweeps (inputs already checked).
@@ -126,7 +149,13 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                     }
                     None => {
                         let nj = bodies[j].nv;
-                        joint_models[j].project_force(&fk, &mut col[..nj]);
+                        if joint_models[j] == JointModel::Floating {
+                            // A floating base's rows are the wrench itself (inlined: every
+                            // column of a floating-base robot ends here).
+                            col[..6].copy_from_slice(&fk.to_array());
+                        } else {
+                            joint_models[j].project_force(&fk, &mut col[..nj]);
+                        }
                         for l in 0..nj {
                             m[(jv + l) * nv + iv] = col[l];
                             m[iv * nv + jv + l] = col[l];
@@ -168,6 +197,37 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
     if data.has_joint_terms {
         for k in 0..nv {
             m[k * nv + k] += data.armature[k];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kinetree_kinematics::model::RootJoint;
+
+    #[test]
+    fn the_mass_matrix_check_tells_an_overflowing_sum_from_a_bad_entry() {
+        let urdf = r#"<robot name="r"><link name="a"/><link name="b"/><link name="c"/>
+          <joint name="j1" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>
+          <joint name="j2" type="continuous"><parent link="b"/><child link="c"/><axis xyz="0 1 0"/></joint>
+        </robot>"#;
+        let model = Model::from_urdf_str(urdf, RootJoint::Fixed).unwrap();
+        let mut data = DynamicsData::new(&model);
+        // Finite entries whose sum overflows: accepted.
+        data.mass_matrix
+            .copy_from_slice(&[1.5e308, 1.5e308, 1.5e308, 1.5e308]);
+        assert!(check_mass_matrix(&model, &data).is_ok());
+        // A non-finite entry, wherever it is: refused, naming its joint.
+        for (k, joint) in [(0, "j1"), (3, "j2")] {
+            for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+                data.mass_matrix.copy_from_slice(&[1.0, 0.5, 0.5, 2.0]);
+                data.mass_matrix[k] = bad;
+                match check_mass_matrix(&model, &data) {
+                    Err(DynamicsError::Overflow { joint: j, .. }) => assert_eq!(j, joint),
+                    other => panic!("{other:?}"),
+                }
+            }
         }
     }
 }
