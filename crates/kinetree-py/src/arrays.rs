@@ -1,18 +1,25 @@
-//! numpy in and out: checked inputs ([`States`]) and the batch runner ([`run`]).
+//! numpy in and out: checked inputs ([`States`]) and the one map over stacked states
+//! ([`map_states`], wrapped by [`run`] and [`run_parts`]).
 //!
-//! Every per-state call takes one state (`q` of shape `(nq,)`) or a stack (`(N, nq)`); [`run`]
-//! evaluates the stack in parallel (rayon) with the GIL released, one `DynamicsData` per worker
-//! thread, so each state gets exactly the arithmetic of a one-state call.
+//! Every per-state call takes one state (`q` of shape `(nq,)`) or a stack (`(N, nq)`). One state
+//! runs directly, with a workspace from the model's [`Pool`]; a stack runs in parallel (rayon)
+//! with the GIL released, in a few contiguous blocks with one pooled workspace each, so each
+//! state gets exactly the arithmetic of a one-state call. Results are written straight into the
+//! numpy array returned.
 
 use crate::errors::{Family, family_of, to_py};
 use crate::model::PyModel;
 use kinetree::dynamics::{DerivativesData, DynamicsData, JointTerms};
 use kinetree::model::Model;
-use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayLikeDyn, PyUntypedArrayMethods};
+use numpy::ndarray::{ArrayD, ArrayViewD, IxDyn};
+use numpy::{
+    AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods,
+    PyUntypedArrayMethods, ToPyArray,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyFloat;
 use rayon::prelude::*;
+use std::sync::{Mutex, PoisonError};
 
 /// Two arrays returned together (`simulate`'s configurations and velocities, `bounds`' corners).
 pub(crate) type ArrayPair<'py> = (
@@ -42,48 +49,26 @@ impl States {
 
 /// Reads argument `name`: any array-like of numbers convertible to float64, of shape `(width,)`
 /// or `(N, width)`, every entry finite. Errors are of `family` and name the expected shape.
+///
+/// A C-contiguous float64 ndarray (the common case) is copied straight from its buffer; anything
+/// else goes through numpy's conversion.
 pub(crate) fn states(
     obj: &Bound<'_, PyAny>,
     name: &'static str,
     width: usize,
     family: Family,
 ) -> PyResult<States> {
-    let expected = format!("({width},) or (N, {width})");
-    // numpy would drop the imaginary part of complex numbers (and read text or objects): only
-    // real numbers convert.
-    if let Ok(kind) = obj
-        .getattr(pyo3::intern!(obj.py(), "dtype"))
-        .and_then(|d| d.getattr(pyo3::intern!(obj.py(), "kind")))
-        .and_then(|k| k.extract::<String>())
-        && !matches!(kind.as_str(), "f" | "i" | "u")
-    {
-        return Err(family.err(format!(
-            "{name} must be a float64 array of shape {expected}; got dtype kind {kind:?}"
-        )));
-    }
-    let array = obj
-        .extract::<PyArrayLikeDyn<'_, f64, AllowTypeChange>>()
-        .map_err(|e| {
-            let kind = obj
-                .get_type()
-                .name()
-                .map_or_else(|_| "?".to_string(), |n| n.to_string());
-            family.err(format!(
-                "{name} must be a float64 array of shape {expected}; got a {kind} that does not convert ({e})"
-            ))
-        })?;
-    let shape = array.shape().to_vec();
-    let count = match shape.as_slice() {
-        [n] if *n == width => None,
-        [n, w] if *w == width => Some(*n),
-        _ => {
-            return Err(family.err(format!(
-                "{name} must have shape {expected}, got {}",
-                shape_text(&shape)
-            )));
+    let values = match obj.cast::<PyArrayDyn<f64>>() {
+        Ok(array) if array.is_c_contiguous() => {
+            let count = count_of(array.shape(), name, width, family)?;
+            let values = array.to_vec().map_err(|e| {
+                family.err(format!("{name} cannot be read as a float64 buffer: {e}"))
+            })?;
+            (values, count)
         }
+        _ => converted(obj, name, width, family)?,
     };
-    let values: Vec<f64> = array.as_array().iter().copied().collect();
+    let (values, count) = values;
     if let Some(k) = values.iter().position(|x| !x.is_finite()) {
         let at = if count.is_some() && width > 0 {
             format!("[{}, {}]", k / width, k % width)
@@ -101,6 +86,71 @@ pub(crate) fn states(
         count,
         name,
     })
+}
+
+/// The expected shape of argument `name`, for messages.
+fn expected(width: usize) -> String {
+    format!("({width},) or (N, {width})")
+}
+
+/// `None` for shape `(width,)`, `Some(N)` for `(N, width)`, else an error naming the shapes.
+fn count_of(
+    shape: &[usize],
+    name: &str,
+    width: usize,
+    family: Family,
+) -> PyResult<Option<usize>> {
+    match shape {
+        [n] if *n == width => Ok(None),
+        [n, w] if *w == width => Ok(Some(*n)),
+        _ => Err(family.err(format!(
+            "{name} must have shape {}, got {}",
+            expected(width),
+            shape_text(shape)
+        ))),
+    }
+}
+
+/// The values and stack size of an argument that is not a C-contiguous float64 ndarray (a list,
+/// an integer array, a strided view …), converted by numpy.
+fn converted(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+    width: usize,
+    family: Family,
+) -> PyResult<(Vec<f64>, Option<usize>)> {
+    // numpy would drop the imaginary part of complex numbers (and read text or objects): only
+    // real numbers convert.
+    if let Ok(kind) = obj
+        .getattr(pyo3::intern!(obj.py(), "dtype"))
+        .and_then(|d| d.getattr(pyo3::intern!(obj.py(), "kind")))
+        .and_then(|k| k.extract::<String>())
+        && !matches!(kind.as_str(), "f" | "i" | "u")
+    {
+        return Err(family.err(format!(
+            "{name} must be a float64 array of shape {}; got dtype kind {kind:?}",
+            expected(width)
+        )));
+    }
+    let array = obj
+        .extract::<PyArrayLikeDyn<'_, f64, AllowTypeChange>>()
+        .map_err(|e| {
+            let kind = obj
+                .get_type()
+                .name()
+                .map_or_else(|_| "?".to_string(), |n| n.to_string());
+            family.err(format!(
+                "{name} must be a float64 array of shape {}; got a {kind} that does not convert ({e})",
+                expected(width)
+            ))
+        })?;
+    let count = count_of(array.shape(), name, width, family)?;
+    let view = array.as_array();
+    let values = match view.as_slice() {
+        Some(s) => s.to_vec(),
+        None => view.iter().copied().collect(),
+    };
+    Ok((values, count))
 }
 
 /// A finite scalar argument.
@@ -157,74 +207,183 @@ pub(crate) fn new_derivatives_data(model: &Model) -> DerivativesData {
     DerivativesData::with_joint_terms(model, JointTerms::Ignored)
 }
 
-/// As [`run`] for the analytic derivatives: `f(data, states, out)` fills `parts` matrices of
-/// `nv x nv` one after the other in `out`; returns them as `parts` arrays of shape `(nv, nv)`,
-/// or `(N, nv, nv)` for a stack (computed in parallel with the GIL released).
-pub(crate) fn run_derivatives<'py, F>(
+/// Workspaces of one kind kept by a model for reuse: a one-state call takes one and gives it
+/// back, and each worker of a stacked call takes one for its whole block of states, so calls
+/// after the first allocate no workspace.
+#[derive(Debug)]
+pub(crate) struct Pool<S>(Mutex<Vec<S>>);
+
+impl<S> Default for Pool<S> {
+    fn default() -> Self {
+        Self(Mutex::new(Vec::new()))
+    }
+}
+
+impl<S> Pool<S> {
+    /// Runs `f` with a workspace of the pool, made by `fresh` when none is free.
+    fn with<R>(&self, fresh: impl FnOnce() -> S, f: impl FnOnce(&mut S) -> R) -> R {
+        let taken = self.0.lock().unwrap_or_else(PoisonError::into_inner).pop();
+        let mut scratch = taken.unwrap_or_else(fresh);
+        let result = f(&mut scratch);
+        self.0
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push(scratch);
+        result
+    }
+}
+
+/// The workspace a per-state computation needs, and where a model keeps spare ones.
+pub(crate) trait Scratch: Send + Sized {
+    /// Runs `f` with a workspace for `model` (taken from its pool, or made).
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R;
+}
+
+/// Computations that need no workspace (the configuration-space operations).
+impl Scratch for () {
+    fn with<R>(_: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        f(&mut ())
+    }
+}
+
+impl Scratch for DynamicsData {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        model.dynamics_pool.with(|| new_data(&model.model), f)
+    }
+}
+
+impl Scratch for DerivativesData {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        model
+            .derivatives_pool
+            .with(|| new_derivatives_data(&model.model), f)
+    }
+}
+
+/// The per-state inputs of state `i`: one slice per input (at most four).
+fn slices<'a>(inputs: &[&'a States], i: usize) -> [&'a [f64]; 4] {
+    let mut s: [&[f64]; 4] = [&[]; 4];
+    for (k, input) in inputs.iter().enumerate().take(4) {
+        s[k] = input.state(i);
+    }
+    s
+}
+
+/// Blocks per worker thread of a stacked call: enough for the workers to even out when one is
+/// slowed down (the machine is shared), few enough that taking a workspace per block is free.
+const BLOCKS_PER_THREAD: usize = 8;
+
+/// Runs `f(scratch, states, out)` on every state of a stack of `n`, in parallel with the GIL
+/// released: the states are cut into a few contiguous blocks, each run by one worker with one
+/// workspace, writing straight into its rows of `out` (`size` numbers per state). An error
+/// names the first failing state found.
+fn map_stack<S, F>(
+    py: Python<'_>,
+    model: &PyModel,
+    inputs: &[&States],
+    n: usize,
+    size: usize,
+    out: &mut [f64],
+    f: &F,
+) -> PyResult<()>
+where
+    S: Scratch,
+    F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+{
+    if n == 0 {
+        return Ok(());
+    }
+    let n_in = inputs.len();
+    let threads = rayon::current_num_threads().max(1);
+    let block = n.div_ceil(threads * BLOCKS_PER_THREAD).max(1);
+    let blocks: Vec<(usize, &mut [f64])> = if size == 0 {
+        (0..n.div_ceil(block))
+            .map(|b| (b * block, &mut [][..]))
+            .collect()
+    } else {
+        out.chunks_mut(block * size)
+            .enumerate()
+            .map(|(b, chunk)| (b * block, chunk))
+            .collect()
+    };
+    let result = py.detach(|| {
+        blocks.into_par_iter().try_for_each(|(first, chunk)| {
+            S::with(model, |scratch| {
+                let last = (first + block).min(n);
+                for i in first..last {
+                    let row = &mut chunk[(i - first) * size..(i - first + 1) * size];
+                    f(scratch, &slices(inputs, i)[..n_in], row).map_err(|e| Box::new((i, e)))?;
+                }
+                Ok(())
+            })
+        })
+    });
+    result.map_err(|failed: Box<(usize, kinetree::Error)>| {
+        let (i, e) = *failed;
+        family_of(&e).err(format!("state {i}: {e}"))
+    })
+}
+
+/// Runs `f(scratch, state, out)` on the one state of `inputs`, here (the GIL held), with a
+/// workspace of the model's pool.
+fn one_state<S, F>(model: &PyModel, inputs: &[&States], out: &mut [f64], f: &F) -> PyResult<()>
+where
+    S: Scratch,
+    F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error>,
+{
+    S::with(model, |scratch| {
+        f(scratch, &slices(inputs, 0)[..inputs.len()], out)
+    })
+    .map_err(|e| to_py(&e, false))
+}
+
+/// Runs `f(scratch, states, out)` on one state or on every state of a stack; returns a new numpy
+/// array of shape `out_shape`, or `(N, *out_shape)` for a stack of `N`, and the stack size.
+///
+/// One state runs as [`one_state`] and is copied into the array; a stack runs as [`map_stack`],
+/// writing straight into the array. Both give each state exactly the same arithmetic.
+pub(crate) fn map_states<'py, S, F>(
     py: Python<'py>,
     model: &PyModel,
     inputs: &[&States],
-    parts: usize,
+    out_shape: &[usize],
     family: Family,
     f: F,
-) -> PyResult<Vec<Bound<'py, numpy::PyArrayDyn<f64>>>>
+) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Option<usize>)>
 where
-    F: Fn(&mut DerivativesData, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+    S: Scratch,
+    F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
 {
-    let nv = model.model.nv();
-    let size = nv * nv;
-    let slices = |i: usize| -> [&[f64]; 4] {
-        let mut s: [&[f64]; 4] = [&[]; 4];
-        for (k, input) in inputs.iter().enumerate().take(4) {
-            s[k] = input.state(i);
+    let size: usize = out_shape.iter().product();
+    match batch_count(inputs, family)? {
+        None => {
+            let mut out = vec![0.0; size];
+            one_state(model, inputs, &mut out, &f)?;
+            Ok((view(out_shape, &out)?.to_pyarray(py), None))
         }
-        s
-    };
-    let n_in = inputs.len();
-    let count = batch_count(inputs, family)?;
-    let n = count.unwrap_or(1);
-    let mut out = vec![0.0; n * parts * size];
-    match count {
-        None => model
-            .with_derivatives_scratch(|data| f(data, &slices(0)[..n_in], &mut out))
-            .map_err(|e| to_py(&e, false))?,
-        Some(_) => {
-            let m: &Model = &model.model;
-            let result = py.detach(|| {
-                out.par_chunks_mut((parts * size).max(1))
-                    .enumerate()
-                    .try_for_each_init(
-                        || new_derivatives_data(m),
-                        |data, (i, chunk)| {
-                            f(data, &slices(i)[..n_in], chunk).map_err(|e| Box::new((i, e)))
-                        },
-                    )
-            });
-            if let Err(failed) = result {
-                let (i, e) = *failed;
-                return Err(family_of(&e).err(format!("state {i}: {e}")));
+        Some(n) => {
+            let mut shape = Vec::with_capacity(out_shape.len() + 1);
+            shape.push(n);
+            shape.extend_from_slice(out_shape);
+            let array = PyArrayDyn::<f64>::zeros(py, IxDyn(&shape), false);
+            {
+                let mut writable = array.readwrite();
+                let out = writable.as_slice_mut()?;
+                map_stack(py, model, inputs, n, size, out, &f)?;
             }
+            Ok((array, Some(n)))
         }
     }
-    let mut shape = count.map_or_else(Vec::new, |n| vec![n]);
-    shape.extend([nv, nv]);
-    (0..parts)
-        .map(|p| {
-            let mut values = Vec::with_capacity(n * size);
-            for i in 0..n {
-                let start = (i * parts + p) * size;
-                values.extend_from_slice(&out[start..start + size]);
-            }
-            to_numpy(py, &shape, values)
-        })
-        .collect()
 }
 
-/// Runs `f(data, states, out)` on one state or on every state of a stack.
-///
-/// `out_shape` is the shape of one result; a stack of `N` gets `(N, *out_shape)`. One state with
-/// an empty `out_shape` returns a Python float. Stacks run in parallel with the GIL released; an
-/// error names the state it came from.
+/// `values` seen as an array of `shape` (row-major).
+fn view<'a>(shape: &[usize], values: &'a [f64]) -> PyResult<ArrayViewD<'a, f64>> {
+    ArrayViewD::from_shape(IxDyn(shape), values).map_err(|e| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!("internal shape error: {e}"))
+    })
+}
+
+/// [`run_with`] a dynamics workspace: the per-state calls of the kinematics and dynamics layers.
 pub(crate) fn run<'py, F>(
     py: Python<'py>,
     model: &PyModel,
@@ -236,55 +395,74 @@ pub(crate) fn run<'py, F>(
 where
     F: Fn(&mut DynamicsData, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
 {
-    let size: usize = out_shape.iter().product();
-    let slices = |i: usize| -> [&[f64]; 4] {
-        let mut s: [&[f64]; 4] = [&[]; 4];
-        for (k, input) in inputs.iter().enumerate().take(4) {
-            s[k] = input.state(i);
-        }
-        s
-    };
-    let n_in = inputs.len();
-    match batch_count(inputs, family)? {
-        None => {
-            let mut out = vec![0.0; size];
-            model
-                .with_scratch(|data| f(data, &slices(0)[..n_in], &mut out))
-                .map_err(|e| to_py(&e, false))?;
-            if out_shape.is_empty() {
-                return Ok(PyFloat::new(py, out[0]).into_any());
-            }
-            Ok(to_numpy(py, out_shape, out)?.into_any())
-        }
-        Some(n) => {
-            let m: &Model = &model.model;
-            let mut out = vec![0.0; n * size];
-            let result = py.detach(|| {
-                if size == 0 {
-                    (0..n).into_par_iter().try_for_each_init(
-                        || new_data(m),
-                        |data, i| {
-                            f(data, &slices(i)[..n_in], &mut []).map_err(|e| Box::new((i, e)))
-                        },
-                    )
-                } else {
-                    out.par_chunks_mut(size).enumerate().try_for_each_init(
-                        || new_data(m),
-                        |data, (i, chunk)| {
-                            f(data, &slices(i)[..n_in], chunk).map_err(|e| Box::new((i, e)))
-                        },
-                    )
-                }
-            });
-            if let Err(failed) = result {
-                let (i, e) = *failed;
-                return Err(family_of(&e).err(format!("state {i}: {e}")));
-            }
-            let mut shape = vec![n];
-            shape.extend_from_slice(out_shape);
-            Ok(to_numpy(py, &shape, out)?.into_any())
-        }
+    run_with(py, model, inputs, out_shape, family, f)
+}
+
+/// [`map_states`] for the per-state calls: one state with an empty `out_shape` gives a Python
+/// float, anything else the array.
+pub(crate) fn run_with<'py, S, F>(
+    py: Python<'py>,
+    model: &PyModel,
+    inputs: &[&States],
+    out_shape: &[usize],
+    family: Family,
+    f: F,
+) -> PyResult<Bound<'py, PyAny>>
+where
+    S: Scratch,
+    F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+{
+    if out_shape.is_empty() && batch_count(inputs, family)?.is_none() {
+        let mut out = [0.0];
+        one_state(model, inputs, &mut out, &f)?;
+        return Ok(PyFloat::new(py, out[0]).into_any());
     }
+    Ok(map_states(py, model, inputs, out_shape, family, f)?
+        .0
+        .into_any())
+}
+
+/// [`map_states`] for calls with several `nv x nv` results (the analytic derivatives):
+/// `f(data, states, out)` writes `parts` matrices one after the other; they come back as `parts`
+/// arrays of shape `(nv, nv)`, or `(N, nv, nv)` for a stack.
+pub(crate) fn run_parts<'py, F>(
+    py: Python<'py>,
+    model: &PyModel,
+    inputs: &[&States],
+    parts: usize,
+    family: Family,
+    f: F,
+) -> PyResult<Vec<Bound<'py, PyArrayDyn<f64>>>>
+where
+    F: Fn(&mut DerivativesData, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+{
+    let nv = model.model.nv();
+    let size = nv * nv;
+    if batch_count(inputs, family)?.is_none() {
+        let mut out = vec![0.0; parts * size];
+        one_state(model, inputs, &mut out, &f)?;
+        return (0..parts)
+            .map(|p| Ok(view(&[nv, nv], &out[p * size..(p + 1) * size])?.to_pyarray(py)))
+            .collect();
+    }
+    let (all, count) = map_states(py, model, inputs, &[parts, nv, nv], family, f)?;
+    let n = count.unwrap_or(1);
+    let readonly = all.readonly();
+    let values = readonly.as_slice()?;
+    (0..parts)
+        .map(|p| {
+            let part = PyArrayDyn::<f64>::zeros(py, IxDyn(&[n, nv, nv]), false);
+            {
+                let mut writable = part.readwrite();
+                let dst = writable.as_slice_mut()?;
+                for (i, d) in dst.chunks_exact_mut(size.max(1)).enumerate() {
+                    let start = (i * parts + p) * size;
+                    d.copy_from_slice(&values[start..start + size]);
+                }
+            }
+            Ok(part)
+        })
+        .collect()
 }
 
 /// A numpy array of `shape` owning `values` (row-major).

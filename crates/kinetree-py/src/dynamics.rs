@@ -2,7 +2,7 @@
 //! centre of mass, centroidal momentum and simulation. All are rigid-body dynamics (the joints'
 //! damping, friction and armature left out), as Pinocchio computes them.
 
-use crate::arrays::{ArrayPair, States, finite, new_data, run, run_derivatives, states, to_numpy};
+use crate::arrays::{ArrayPair, States, finite, new_data, run, run_parts, states, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
 use kinetree::dynamics::{
@@ -150,7 +150,7 @@ impl PyModel {
     ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
         let (q, v, a) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(a, "a", F)?);
         let nv2 = self.model.nv() * self.model.nv();
-        let mut parts = run_derivatives(py, self, &[&q, &v, &a], 3, F, |d, x, out| {
+        let mut parts = run_parts(py, self, &[&q, &v, &a], 3, F, |d, x, out| {
             let r = rnea_derivatives(&self.model, d, x[0], x[1], x[2])?;
             for (k, m) in [r.dtau_dq, r.dtau_dv, r.dtau_da].into_iter().enumerate() {
                 out[k * nv2..(k + 1) * nv2].copy_from_slice(m);
@@ -173,7 +173,7 @@ impl PyModel {
         q: &Bound<'py, PyAny>,
     ) -> PyResult<Derivative<'py>> {
         let q = self.q(q, F)?;
-        let mut parts = run_derivatives(py, self, &[&q], 1, F, |d, x, out| {
+        let mut parts = run_parts(py, self, &[&q], 1, F, |d, x, out| {
             out.copy_from_slice(generalized_gravity_derivatives(&self.model, d, x[0])?);
             Ok(())
         })?;
@@ -201,7 +201,7 @@ impl PyModel {
     ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
         let (q, v, t) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(tau, "tau", F)?);
         let nv2 = self.model.nv() * self.model.nv();
-        let mut parts = run_derivatives(py, self, &[&q, &v, &t], 3, F, |d, x, out| {
+        let mut parts = run_parts(py, self, &[&q, &v, &t], 3, F, |d, x, out| {
             let r = aba_derivatives(&self.model, d, x[0], x[1], x[2])?;
             for (k, m) in [r.dddq_dq, r.dddq_dv, r.dddq_dtau].into_iter().enumerate() {
                 out[k * nv2..(k + 1) * nv2].copy_from_slice(m);

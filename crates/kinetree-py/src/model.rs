@@ -1,6 +1,6 @@
 //! The `Model` class: loading, sizes, names, limits, configuration-space helpers and pickling.
 
-use crate::arrays::{States, finite, new_data, run, states, to_numpy};
+use crate::arrays::{Pool, States, finite, run_with, states, to_numpy};
 use crate::errors::{Family, py_err};
 use kinetree::dynamics::{DerivativesData, DynamicsData};
 use kinetree::kinematics::configuration;
@@ -12,7 +12,7 @@ use pyo3::types::{PyDict, PyTuple};
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex, TryLockError};
+use std::sync::Arc;
 
 /// What a model was loaded from, kept so that pickling rebuilds exactly the same model.
 #[derive(Clone, Debug)]
@@ -39,43 +39,19 @@ pub(crate) enum Source {
 pub(crate) struct PyModel {
     pub(crate) model: Arc<Model>,
     source: Source,
-    /// Buffers for one-state calls; a caller that finds them busy (another thread) allocates.
-    scratch: Mutex<DynamicsData>,
-    /// Buffers for one-state derivative calls, made on first use.
-    derivatives_scratch: Mutex<Option<DerivativesData>>,
+    /// Dynamics workspaces for reuse by one-state calls and by the workers of stacked calls.
+    pub(crate) dynamics_pool: Pool<DynamicsData>,
+    /// Workspaces of the derivative algorithms, as `dynamics_pool`.
+    pub(crate) derivatives_pool: Pool<DerivativesData>,
 }
 
 impl PyModel {
     pub(crate) fn new(model: Model, source: Source) -> Self {
-        let scratch = Mutex::new(new_data(&model));
         Self {
             model: Arc::new(model),
             source,
-            scratch,
-            derivatives_scratch: Mutex::new(None),
-        }
-    }
-
-    /// Runs `f` with the model's one-state buffers, or with fresh ones when another thread holds
-    /// them.
-    pub(crate) fn with_scratch<R>(&self, f: impl FnOnce(&mut DynamicsData) -> R) -> R {
-        match self.scratch.try_lock() {
-            Ok(mut data) => f(&mut data),
-            Err(TryLockError::Poisoned(p)) => f(&mut p.into_inner()),
-            Err(TryLockError::WouldBlock) => f(&mut new_data(&self.model)),
-        }
-    }
-
-    /// As [`with_scratch`](Self::with_scratch), with the derivative algorithms' buffers.
-    pub(crate) fn with_derivatives_scratch<R>(
-        &self,
-        f: impl FnOnce(&mut DerivativesData) -> R,
-    ) -> R {
-        let fresh = || crate::arrays::new_derivatives_data(&self.model);
-        match self.derivatives_scratch.try_lock() {
-            Ok(mut data) => f(data.get_or_insert_with(fresh)),
-            Err(TryLockError::Poisoned(p)) => f(p.into_inner().get_or_insert_with(fresh)),
-            Err(TryLockError::WouldBlock) => f(&mut fresh()),
+            dynamics_pool: Pool::default(),
+            derivatives_pool: Pool::default(),
         }
     }
 
@@ -483,8 +459,7 @@ impl PyModel {
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
         let (q, v) = (self.q(q, f)?, self.v(v, "v", f)?);
-        run(py, self, &[&q, &v], &[self.model.nq()], f, |d, x, out| {
-            let _ = d;
+        run_with(py, self, &[&q, &v], &[self.model.nq()], f, |(), x, out| {
             Ok(configuration::integrate(&self.model, x[0], x[1], out)?)
         })
     }
@@ -503,7 +478,7 @@ impl PyModel {
         let f = Family::Kinematics;
         let q0 = states(q0, "q0", self.model.nq(), f)?;
         let q1 = states(q1, "q1", self.model.nq(), f)?;
-        run(py, self, &[&q0, &q1], &[self.model.nv()], f, |_, x, out| {
+        run_with(py, self, &[&q0, &q1], &[self.model.nv()], f, |(), x, out| {
             Ok(configuration::difference(&self.model, x[0], x[1], out)?)
         })
     }
@@ -524,7 +499,7 @@ impl PyModel {
         let t = finite(t, "t", f)?;
         let q0 = states(q0, "q0", self.model.nq(), f)?;
         let q1 = states(q1, "q1", self.model.nq(), f)?;
-        run(py, self, &[&q0, &q1], &[self.model.nq()], f, |_, x, out| {
+        run_with(py, self, &[&q0, &q1], &[self.model.nq()], f, |(), x, out| {
             Ok(configuration::interpolate(&self.model, x[0], x[1], t, out)?)
         })
     }
@@ -542,7 +517,7 @@ impl PyModel {
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
         let q = self.q(q, f)?;
-        run(py, self, &[&q], &[self.model.nq()], f, |_, x, out| {
+        run_with(py, self, &[&q], &[self.model.nq()], f, |(), x, out| {
             out.copy_from_slice(x[0]);
             Ok(configuration::normalize(&self.model, out)?)
         })
