@@ -9,7 +9,10 @@
 
 use crate::errors::{Family, family_of, to_py};
 use crate::model::PyModel;
+use kinetree::dynamics::batch::DynamicsBatch;
 use kinetree::dynamics::{DerivativesData, DynamicsData, JointTerms};
+use kinetree::kinematics::batch::KinematicsBatch;
+use kinetree::kinematics::spatial::{Motion, Se3};
 use kinetree::model::Model;
 use numpy::ndarray::{ArrayD, ArrayViewD, IxDyn};
 use numpy::{
@@ -260,11 +263,107 @@ impl Scratch for DerivativesData {
     }
 }
 
-/// The per-state inputs of state `i`: one slice per input (at most four).
-fn slices<'a>(inputs: &[&'a States], i: usize) -> [&'a [f64]; 4] {
+impl Scratch for DynamicsBatch {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        model
+            .dynamics_batch_pool
+            .with(|| DynamicsBatch::with_joint_terms(&model.model, JointTerms::Ignored), f)
+    }
+}
+
+/// The workspace of the batched kinematics, with room for a block's placements or Jacobian
+/// columns before they are written out as numpy rows.
+#[derive(Debug)]
+pub(crate) struct KinematicsBlock {
+    /// The batched kernels' buffers.
+    pub(crate) batch: KinematicsBatch,
+    /// Link placements of a block of states.
+    pub(crate) poses: Vec<Se3>,
+    /// Jacobian columns of a block of states.
+    pub(crate) columns: Vec<Motion>,
+}
+
+impl KinematicsBlock {
+    /// The kernels' buffers and the first `n` placements (the buffer grown, once, when a block
+    /// needs more).
+    pub(crate) fn poses(&mut self, n: usize) -> (&mut KinematicsBatch, &mut [Se3]) {
+        if self.poses.len() < n {
+            self.poses.resize(n, Se3::IDENTITY);
+        }
+        (&mut self.batch, &mut self.poses[..n])
+    }
+
+    /// The kernels' buffers and the first `n` Jacobian columns, grown as
+    /// [`poses`](Self::poses).
+    pub(crate) fn columns(&mut self, n: usize) -> (&mut KinematicsBatch, &mut [Motion]) {
+        if self.columns.len() < n {
+            self.columns.resize(n, Motion::ZERO);
+        }
+        (&mut self.batch, &mut self.columns[..n])
+    }
+}
+
+impl Scratch for KinematicsBlock {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        let fresh = || KinematicsBlock {
+            batch: KinematicsBatch::new(&model.model),
+            poses: Vec::new(),
+            columns: Vec::new(),
+        };
+        model.kinematics_batch_pool.with(fresh, f)
+    }
+}
+
+/// The result of a computation over a block of states: on failure, the index of the failing
+/// state within the block and its error (boxed: errors are rare and large).
+pub(crate) type BlockResult = Result<(), Box<(usize, kinetree::Error)>>;
+
+/// Turns a per-state computation `f(scratch, state, out)` into one over a block of `n`
+/// consecutive states (`block[k]` holds input `k` of every state of the block, one after the
+/// other; `out` their results, one after the other).
+pub(crate) fn each_state<S, F>(
+    f: F,
+) -> impl Fn(&mut S, usize, &[&[f64]], &mut [f64]) -> BlockResult + Sync
+where
+    F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+{
+    move |scratch, n, block, out| {
+        let size = out.len() / n.max(1);
+        for j in 0..n {
+            let mut state: [&[f64]; 4] = [&[]; 4];
+            for (x, input) in state.iter_mut().zip(block) {
+                let width = input.len() / n;
+                *x = &input[j * width..(j + 1) * width];
+            }
+            f(
+                scratch,
+                &state[..block.len()],
+                &mut out[j * size..(j + 1) * size],
+            )
+            .map_err(|e| Box::new((j, e)))?;
+        }
+        Ok(())
+    }
+}
+
+/// The error of a batched entry point of the Rust crates as [`BlockResult`] wants it: the state
+/// it names and that state's own error.
+pub(crate) fn in_block(error: kinetree::Error) -> Box<(usize, kinetree::Error)> {
+    use kinetree::Error as E;
+    use kinetree::dynamics::DynamicsError;
+    use kinetree::kinematics::KinematicsError;
+    Box::new(match error {
+        E::Kinematics(KinematicsError::InBatchState { index, source }) => (index, (*source).into()),
+        E::Dynamics(DynamicsError::InBatchState { index, source }) => (index, (*source).into()),
+        other => (0, other),
+    })
+}
+
+/// Inputs of states `first..last` (all inputs stacked alike): one slice per input.
+fn block_of<'a>(inputs: &[&'a States], first: usize, last: usize) -> [&'a [f64]; 4] {
     let mut s: [&[f64]; 4] = [&[]; 4];
-    for (k, input) in inputs.iter().enumerate().take(4) {
-        s[k] = input.state(i);
+    for (x, input) in s.iter_mut().zip(inputs) {
+        *x = &input.values[first * input.width..last * input.width];
     }
     s
 }
@@ -273,10 +372,26 @@ fn slices<'a>(inputs: &[&'a States], i: usize) -> [&'a [f64]; 4] {
 /// slowed down (the machine is shared), few enough that taking a workspace per block is free.
 const BLOCKS_PER_THREAD: usize = 8;
 
-/// Runs `f(scratch, states, out)` on every state of a stack of `n`, in parallel with the GIL
+/// States per block are a multiple of this, so that the batched kernels fill whole SIMD lanes.
+const LANES: usize = 8;
+
+/// Runs the block computation `f` on the one state of `inputs`, here (the GIL held), with a
+/// workspace of the model's pool.
+fn one_state<S, F>(model: &PyModel, inputs: &[&States], out: &mut [f64], f: &F) -> PyResult<()>
+where
+    S: Scratch,
+    F: Fn(&mut S, usize, &[&[f64]], &mut [f64]) -> BlockResult,
+{
+    S::with(model, |scratch| {
+        f(scratch, 1, &block_of(inputs, 0, 1)[..inputs.len()], out)
+    })
+    .map_err(|failed| to_py(&failed.1, false))
+}
+
+/// Runs the block computation `f` on every state of a stack of `n`, in parallel with the GIL
 /// released: the states are cut into a few contiguous blocks, each run by one worker with one
-/// workspace, writing straight into its rows of `out` (`size` numbers per state). An error
-/// names the first failing state found.
+/// workspace, writing straight into its rows of `out` (`size` numbers per state). An error names
+/// the failing state.
 fn map_stack<S, F>(
     py: Python<'_>,
     model: &PyModel,
@@ -288,14 +403,14 @@ fn map_stack<S, F>(
 ) -> PyResult<()>
 where
     S: Scratch,
-    F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+    F: Fn(&mut S, usize, &[&[f64]], &mut [f64]) -> BlockResult + Sync,
 {
     if n == 0 {
         return Ok(());
     }
     let n_in = inputs.len();
     let threads = rayon::current_num_threads().max(1);
-    let block = n.div_ceil(threads * BLOCKS_PER_THREAD).max(1);
+    let block = n.div_ceil(threads * BLOCKS_PER_THREAD).next_multiple_of(LANES);
     let blocks: Vec<(usize, &mut [f64])> = if size == 0 {
         (0..n.div_ceil(block))
             .map(|b| (b * block, &mut [][..]))
@@ -308,37 +423,30 @@ where
     };
     let result = py.detach(|| {
         blocks.into_par_iter().try_for_each(|(first, chunk)| {
+            let last = (first + block).min(n);
             S::with(model, |scratch| {
-                let last = (first + block).min(n);
-                for i in first..last {
-                    let row = &mut chunk[(i - first) * size..(i - first + 1) * size];
-                    f(scratch, &slices(inputs, i)[..n_in], row).map_err(|e| Box::new((i, e)))?;
-                }
-                Ok(())
+                f(
+                    scratch,
+                    last - first,
+                    &block_of(inputs, first, last)[..n_in],
+                    chunk,
+                )
+            })
+            .map_err(|mut failed| {
+                failed.0 += first;
+                failed
             })
         })
     });
-    result.map_err(|failed: Box<(usize, kinetree::Error)>| {
-        let (i, e) = *failed;
-        family_of(&e).err(format!("state {i}: {e}"))
+    result.map_err(|failed| {
+        let (i, e) = &*failed;
+        family_of(e).err(format!("state {i}: {e}"))
     })
 }
 
-/// Runs `f(scratch, state, out)` on the one state of `inputs`, here (the GIL held), with a
-/// workspace of the model's pool.
-fn one_state<S, F>(model: &PyModel, inputs: &[&States], out: &mut [f64], f: &F) -> PyResult<()>
-where
-    S: Scratch,
-    F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error>,
-{
-    S::with(model, |scratch| {
-        f(scratch, &slices(inputs, 0)[..inputs.len()], out)
-    })
-    .map_err(|e| to_py(&e, false))
-}
-
-/// Runs `f(scratch, states, out)` on one state or on every state of a stack; returns a new numpy
-/// array of shape `out_shape`, or `(N, *out_shape)` for a stack of `N`, and the stack size.
+/// Runs the block computation `f` on one state or on every state of a stack; returns a new
+/// numpy array of shape `out_shape`, or `(N, *out_shape)` for a stack of `N`, and the stack
+/// size.
 ///
 /// One state runs as [`one_state`] and is copied into the array; a stack runs as [`map_stack`],
 /// writing straight into the array. Both give each state exactly the same arithmetic.
@@ -352,7 +460,7 @@ pub(crate) fn map_states<'py, S, F>(
 ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Option<usize>)>
 where
     S: Scratch,
-    F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+    F: Fn(&mut S, usize, &[&[f64]], &mut [f64]) -> BlockResult + Sync,
 {
     let size: usize = out_shape.iter().product();
     match batch_count(inputs, family)? {
@@ -381,6 +489,25 @@ fn view<'a>(shape: &[usize], values: &'a [f64]) -> PyResult<ArrayViewD<'a, f64>>
     ArrayViewD::from_shape(IxDyn(shape), values).map_err(|e| {
         pyo3::exceptions::PyRuntimeError::new_err(format!("internal shape error: {e}"))
     })
+}
+
+/// [`map_states`] of a block computation (a batched entry point of the Rust crates), as an
+/// array.
+pub(crate) fn run_blocks<'py, S, F>(
+    py: Python<'py>,
+    model: &PyModel,
+    inputs: &[&States],
+    out_shape: &[usize],
+    family: Family,
+    f: F,
+) -> PyResult<Bound<'py, PyAny>>
+where
+    S: Scratch,
+    F: Fn(&mut S, usize, &[&[f64]], &mut [f64]) -> BlockResult + Sync,
+{
+    Ok(map_states(py, model, inputs, out_shape, family, f)?
+        .0
+        .into_any())
 }
 
 /// [`run_with`] a dynamics workspace: the per-state calls of the kinematics and dynamics layers.
@@ -412,6 +539,7 @@ where
     S: Scratch,
     F: Fn(&mut S, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
 {
+    let f = each_state(f);
     if out_shape.is_empty() && batch_count(inputs, family)?.is_none() {
         let mut out = [0.0];
         one_state(model, inputs, &mut out, &f)?;
@@ -438,6 +566,7 @@ where
 {
     let nv = model.model.nv();
     let size = nv * nv;
+    let f = each_state(f);
     if batch_count(inputs, family)?.is_none() {
         let mut out = vec![0.0; parts * size];
         one_state(model, inputs, &mut out, &f)?;

@@ -2,13 +2,16 @@
 //! centre of mass, centroidal momentum and simulation. All are rigid-body dynamics (the joints'
 //! damping, friction and armature left out), as Pinocchio computes them.
 
-use crate::arrays::{ArrayPair, States, finite, new_data, run, run_parts, states, to_numpy};
+use crate::arrays::{
+    ArrayPair, States, finite, in_block, new_data, run, run_blocks, run_parts, states, to_numpy,
+};
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
+use kinetree::dynamics::batch::{aba_batch, crba_batch, rnea_batch};
 use kinetree::dynamics::{
-    Integrator, aba, aba_derivatives, center_of_mass, center_of_mass_jacobian, centroidal_momentum,
-    crba, generalized_gravity, generalized_gravity_derivatives, kinetic_energy,
-    mass_matrix_inverse, nonlinear_effects, potential_energy, rnea, rnea_derivatives, step,
+    Integrator, aba_derivatives, center_of_mass, center_of_mass_jacobian, centroidal_momentum,
+    generalized_gravity, generalized_gravity_derivatives, kinetic_energy,
+    mass_matrix_inverse, nonlinear_effects, potential_energy, rnea_derivatives, step,
 };
 use pyo3::prelude::*;
 
@@ -45,17 +48,10 @@ impl PyModel {
         a: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let (q, v, a) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(a, "a", F)?);
-        run(
-            py,
-            self,
-            &[&q, &v, &a],
-            &[self.model.nv()],
-            F,
-            |d, x, out| {
-                out.copy_from_slice(rnea(&self.model, d, x[0], x[1], x[2])?);
-                Ok(())
-            },
-        )
+        let nv = self.model.nv();
+        run_blocks(py, self, &[&q, &v, &a], &[nv], F, |b, _, x, out| {
+            rnea_batch(&self.model, b, x[0], x[1], x[2], out).map_err(|e| in_block(e.into()))
+        })
     }
 
     /// Nonlinear effects ``C(q, v) v + g(q)`` (RNEA with zero acceleration): shape ``(nv,)``.
@@ -98,9 +94,8 @@ impl PyModel {
     fn crba<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let q = self.q(q, F)?;
         let nv = self.model.nv();
-        run(py, self, &[&q], &[nv, nv], F, |d, x, out| {
-            out.copy_from_slice(crba(&self.model, d, x[0])?);
-            Ok(())
+        run_blocks(py, self, &[&q], &[nv, nv], F, |b, _, x, out| {
+            crba_batch(&self.model, b, x[0], out).map_err(|e| in_block(e.into()))
         })
     }
 
@@ -118,17 +113,10 @@ impl PyModel {
         tau: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let (q, v, t) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(tau, "tau", F)?);
-        run(
-            py,
-            self,
-            &[&q, &v, &t],
-            &[self.model.nv()],
-            F,
-            |d, x, out| {
-                out.copy_from_slice(aba(&self.model, d, x[0], x[1], x[2])?);
-                Ok(())
-            },
-        )
+        let nv = self.model.nv();
+        run_blocks(py, self, &[&q, &v, &t], &[nv], F, |b, _, x, out| {
+            aba_batch(&self.model, b, x[0], x[1], x[2], out).map_err(|e| in_block(e.into()))
+        })
     }
 
     /// The analytic derivatives of inverse dynamics ``tau = rnea(q, v, a)``: a tuple

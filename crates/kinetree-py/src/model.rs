@@ -1,7 +1,8 @@
 //! The `Model` class: loading, sizes, names, limits, configuration-space helpers and pickling.
 
-use crate::arrays::{Pool, States, finite, run_with, states, to_numpy};
+use crate::arrays::{KinematicsBlock, Pool, States, finite, run_with, states, to_numpy};
 use crate::errors::{Family, py_err};
+use kinetree::dynamics::batch::DynamicsBatch;
 use kinetree::dynamics::{DerivativesData, DynamicsData};
 use kinetree::kinematics::configuration;
 use kinetree::model::dh::{DhConvention, DhRow, DhTable};
@@ -43,6 +44,10 @@ pub(crate) struct PyModel {
     pub(crate) dynamics_pool: Pool<DynamicsData>,
     /// Workspaces of the derivative algorithms, as `dynamics_pool`.
     pub(crate) derivatives_pool: Pool<DerivativesData>,
+    /// Workspaces of the batched kinematics (FK, Jacobians), as `dynamics_pool`.
+    pub(crate) kinematics_batch_pool: Pool<KinematicsBlock>,
+    /// Workspaces of the batched dynamics (RNEA, ABA, CRBA), as `dynamics_pool`.
+    pub(crate) dynamics_batch_pool: Pool<DynamicsBatch>,
 }
 
 impl PyModel {
@@ -52,6 +57,8 @@ impl PyModel {
             source,
             dynamics_pool: Pool::default(),
             derivatives_pool: Pool::default(),
+            kinematics_batch_pool: Pool::default(),
+            dynamics_batch_pool: Pool::default(),
         }
     }
 
