@@ -97,12 +97,7 @@ fn expected(width: usize) -> String {
 }
 
 /// `None` for shape `(width,)`, `Some(N)` for `(N, width)`, else an error naming the shapes.
-fn count_of(
-    shape: &[usize],
-    name: &str,
-    width: usize,
-    family: Family,
-) -> PyResult<Option<usize>> {
+fn count_of(shape: &[usize], name: &str, width: usize, family: Family) -> PyResult<Option<usize>> {
     match shape {
         [n] if *n == width => Ok(None),
         [n, w] if *w == width => Ok(Some(*n)),
@@ -265,9 +260,10 @@ impl Scratch for DerivativesData {
 
 impl Scratch for DynamicsBatch {
     fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
-        model
-            .dynamics_batch_pool
-            .with(|| DynamicsBatch::with_joint_terms(&model.model, JointTerms::Ignored), f)
+        model.dynamics_batch_pool.with(
+            || DynamicsBatch::with_joint_terms(&model.model, JointTerms::Ignored),
+            f,
+        )
     }
 }
 
@@ -410,7 +406,9 @@ where
     }
     let n_in = inputs.len();
     let threads = rayon::current_num_threads().max(1);
-    let block = n.div_ceil(threads * BLOCKS_PER_THREAD).next_multiple_of(LANES);
+    let block = n
+        .div_ceil(threads * BLOCKS_PER_THREAD)
+        .next_multiple_of(LANES);
     let blocks: Vec<(usize, &mut [f64])> = if size == 0 {
         (0..n.div_ceil(block))
             .map(|b| (b * block, &mut [][..]))
@@ -550,48 +548,59 @@ where
         .into_any())
 }
 
-/// [`map_states`] for calls with several `nv x nv` results (the analytic derivatives):
-/// `f(data, states, out)` writes `parts` matrices one after the other; they come back as `parts`
-/// arrays of shape `(nv, nv)`, or `(N, nv, nv)` for a stack.
-pub(crate) fn run_parts<'py, F>(
+/// [`map_states`] for calls with `P` results of `nv x nv` each (the analytic derivatives):
+/// `f(data, state)` returns the `P` matrices (row-major slices of the workspace); they come back
+/// as `P` arrays of shape `(nv, nv)`, or `(N, nv, nv)` for a stack.
+pub(crate) fn run_parts<'py, const P: usize, F>(
     py: Python<'py>,
     model: &PyModel,
     inputs: &[&States],
-    parts: usize,
     family: Family,
     f: F,
-) -> PyResult<Vec<Bound<'py, PyArrayDyn<f64>>>>
+) -> PyResult<[Bound<'py, PyArrayDyn<f64>>; P]>
 where
-    F: Fn(&mut DerivativesData, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error> + Sync,
+    F: for<'d> Fn(&'d mut DerivativesData, &[&[f64]]) -> Result<[&'d [f64]; P], kinetree::Error>
+        + Sync,
 {
     let nv = model.model.nv();
     let size = nv * nv;
-    let f = each_state(f);
-    if batch_count(inputs, family)?.is_none() {
-        let mut out = vec![0.0; parts * size];
-        one_state(model, inputs, &mut out, &f)?;
-        return (0..parts)
-            .map(|p| Ok(view(&[nv, nv], &out[p * size..(p + 1) * size])?.to_pyarray(py)))
-            .collect();
-    }
-    let (all, count) = map_states(py, model, inputs, &[parts, nv, nv], family, f)?;
-    let n = count.unwrap_or(1);
-    let readonly = all.readonly();
-    let values = readonly.as_slice()?;
-    (0..parts)
-        .map(|p| {
-            let part = PyArrayDyn::<f64>::zeros(py, IxDyn(&[n, nv, nv]), false);
-            {
-                let mut writable = part.readwrite();
-                let dst = writable.as_slice_mut()?;
-                for (i, d) in dst.chunks_exact_mut(size.max(1)).enumerate() {
-                    let start = (i * parts + p) * size;
-                    d.copy_from_slice(&values[start..start + size]);
-                }
+    let f = each_state(
+        move |d: &mut DerivativesData, x: &[&[f64]], out: &mut [f64]| {
+            for (m, o) in f(d, x)?.iter().zip(out.chunks_exact_mut(size.max(1))) {
+                o.copy_from_slice(m);
             }
-            Ok(part)
-        })
-        .collect()
+            Ok(())
+        },
+    );
+    let parts: Vec<_> = if batch_count(inputs, family)?.is_none() {
+        let mut out = vec![0.0; P * size];
+        one_state(model, inputs, &mut out, &f)?;
+        (0..P)
+            .map(|p| Ok(view(&[nv, nv], &out[p * size..(p + 1) * size])?.to_pyarray(py)))
+            .collect::<PyResult<_>>()?
+    } else {
+        let (all, count) = map_states(py, model, inputs, &[P, nv, nv], family, f)?;
+        let n = count.unwrap_or(1);
+        let readonly = all.readonly();
+        let values = readonly.as_slice()?;
+        (0..P)
+            .map(|p| {
+                let part = PyArrayDyn::<f64>::zeros(py, IxDyn(&[n, nv, nv]), false);
+                {
+                    let mut writable = part.readwrite();
+                    let dst = writable.as_slice_mut()?;
+                    for (i, d) in dst.chunks_exact_mut(size.max(1)).enumerate() {
+                        let start = (i * P + p) * size;
+                        d.copy_from_slice(&values[start..start + size]);
+                    }
+                }
+                Ok(part)
+            })
+            .collect::<PyResult<_>>()?
+    };
+    parts
+        .try_into()
+        .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("internal: wrong number of results"))
 }
 
 /// A numpy array of `shape` owning `values` (row-major).

@@ -10,8 +10,8 @@ use crate::model::PyModel;
 use kinetree::dynamics::batch::{aba_batch, crba_batch, rnea_batch};
 use kinetree::dynamics::{
     Integrator, aba_derivatives, center_of_mass, center_of_mass_jacobian, centroidal_momentum,
-    generalized_gravity, generalized_gravity_derivatives, kinetic_energy,
-    mass_matrix_inverse, nonlinear_effects, potential_energy, rnea_derivatives, step,
+    generalized_gravity, generalized_gravity_derivatives, kinetic_energy, mass_matrix_inverse,
+    nonlinear_effects, potential_energy, rnea_derivatives, step,
 };
 use pyo3::prelude::*;
 
@@ -19,18 +19,6 @@ const F: Family = Family::Dynamics;
 
 /// One derivative matrix (or a stack of them).
 type Derivative<'py> = Bound<'py, numpy::PyArrayDyn<f64>>;
-
-/// The three matrices of a derivative call.
-fn three<'py>(
-    parts: &mut impl Iterator<Item = Derivative<'py>>,
-) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
-    let missing = || pyo3::exceptions::PyRuntimeError::new_err("missing derivative");
-    Ok((
-        parts.next().ok_or_else(missing)?,
-        parts.next().ok_or_else(missing)?,
-        parts.next().ok_or_else(missing)?,
-    ))
-}
 
 #[pymethods]
 impl PyModel {
@@ -137,16 +125,11 @@ impl PyModel {
         a: &Bound<'py, PyAny>,
     ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
         let (q, v, a) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(a, "a", F)?);
-        let nv2 = self.model.nv() * self.model.nv();
-        let mut parts = run_parts(py, self, &[&q, &v, &a], 3, F, |d, x, out| {
+        let [dq, dv, da] = run_parts(py, self, &[&q, &v, &a], F, |d, x| {
             let r = rnea_derivatives(&self.model, d, x[0], x[1], x[2])?;
-            for (k, m) in [r.dtau_dq, r.dtau_dv, r.dtau_da].into_iter().enumerate() {
-                out[k * nv2..(k + 1) * nv2].copy_from_slice(m);
-            }
-            Ok(())
-        })?
-        .into_iter();
-        three(&mut parts)
+            Ok([r.dtau_dq, r.dtau_dv, r.dtau_da])
+        })?;
+        Ok((dq, dv, da))
     }
 
     /// The derivative ``∂g/∂q`` of the generalized gravity (tangent space, as
@@ -161,13 +144,10 @@ impl PyModel {
         q: &Bound<'py, PyAny>,
     ) -> PyResult<Derivative<'py>> {
         let q = self.q(q, F)?;
-        let mut parts = run_parts(py, self, &[&q], 1, F, |d, x, out| {
-            out.copy_from_slice(generalized_gravity_derivatives(&self.model, d, x[0])?);
-            Ok(())
+        let [dg] = run_parts(py, self, &[&q], F, |d, x| {
+            Ok([generalized_gravity_derivatives(&self.model, d, x[0])?])
         })?;
-        parts
-            .pop()
-            .ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("no result"))
+        Ok(dg)
     }
 
     /// The analytic derivatives of forward dynamics ``ddq = aba(q, v, tau)``: a tuple
@@ -188,16 +168,11 @@ impl PyModel {
         tau: &Bound<'py, PyAny>,
     ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
         let (q, v, t) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(tau, "tau", F)?);
-        let nv2 = self.model.nv() * self.model.nv();
-        let mut parts = run_parts(py, self, &[&q, &v, &t], 3, F, |d, x, out| {
+        let [dq, dv, dtau] = run_parts(py, self, &[&q, &v, &t], F, |d, x| {
             let r = aba_derivatives(&self.model, d, x[0], x[1], x[2])?;
-            for (k, m) in [r.dddq_dq, r.dddq_dv, r.dddq_dtau].into_iter().enumerate() {
-                out[k * nv2..(k + 1) * nv2].copy_from_slice(m);
-            }
-            Ok(())
-        })?
-        .into_iter();
-        three(&mut parts)
+            Ok([r.dddq_dq, r.dddq_dv, r.dddq_dtau])
+        })?;
+        Ok((dq, dv, dtau))
     }
 
     /// The inverse mass matrix ``M(q)⁻¹``: shape ``(nv, nv)`` (or stacked).

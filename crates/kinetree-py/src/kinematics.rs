@@ -4,12 +4,11 @@
 use crate::arrays::{KinematicsBlock, in_block, run, run_blocks};
 use crate::errors::Family;
 use crate::model::PyModel;
-use kinetree::kinematics::spatial::{Motion, Se3};
 use kinetree::kinematics::batch::{forward_kinematics_batch, frame_jacobian_batch};
+use kinetree::kinematics::spatial::{Motion, Se3};
 use kinetree::kinematics::{
-    FrameId, ReferenceFrame, change_reference,
-    compute_joint_jacobians_time_variation, forward_kinematics,
-    forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
+    FrameId, ReferenceFrame, change_reference, compute_joint_jacobians_time_variation,
+    forward_kinematics, forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
     frame_jacobian_time_variation, frame_velocity, relative_transform, update_frame_placements,
 };
 use pyo3::prelude::*;
@@ -95,15 +94,22 @@ impl PyModel {
         let f = Family::Kinematics;
         let q = self.q(q, f)?;
         let nl = self.model.links().len();
-        run_blocks(py, self, &[&q], &[nl, 4, 4], f, |b: &mut KinematicsBlock, n, x, out| {
-            let (batch, poses) = b.poses(n * nl);
-            forward_kinematics_batch(&self.model, batch, x[0], poses, None)
-                .map_err(|e| in_block(e.into()))?;
-            for (x, o) in poses.iter().zip(out.chunks_exact_mut(16)) {
-                write_se3(x, o);
-            }
-            Ok(())
-        })
+        run_blocks(
+            py,
+            self,
+            &[&q],
+            &[nl, 4, 4],
+            f,
+            |b: &mut KinematicsBlock, n, x, out| {
+                let (batch, poses) = b.poses(n * nl);
+                forward_kinematics_batch(&self.model, batch, x[0], poses, None)
+                    .map_err(|e| in_block(e.into()))?;
+                for (x, o) in poses.iter().zip(out.chunks_exact_mut(16)) {
+                    write_se3(x, o);
+                }
+                Ok(())
+            },
+        )
     }
 
     /// World pose of every named frame, in ``frame_names`` order: shape ``(nframes, 4, 4)`` (or
@@ -195,18 +201,25 @@ impl PyModel {
         let reference = reference_frame(reference, f)?;
         let q = self.q(q, f)?;
         let nv = self.model.nv();
-        run_blocks(py, self, &[&q], &[6, nv], f, |b: &mut KinematicsBlock, n, x, out| {
-            let (batch, cols) = b.columns(n * nv);
-            frame_jacobian_batch(&self.model, batch, x[0], frame, reference, cols)
-                .map_err(|e| in_block(e.into()))?;
-            if nv == 0 {
-                return Ok(());
-            }
-            for (c, o) in cols.chunks_exact(nv).zip(out.chunks_exact_mut(6 * nv)) {
-                write_columns(c, o);
-            }
-            Ok(())
-        })
+        run_blocks(
+            py,
+            self,
+            &[&q],
+            &[6, nv],
+            f,
+            |b: &mut KinematicsBlock, n, x, out| {
+                let (batch, cols) = b.columns(n * nv);
+                frame_jacobian_batch(&self.model, batch, x[0], frame, reference, cols)
+                    .map_err(|e| in_block(e.into()))?;
+                if nv == 0 {
+                    return Ok(());
+                }
+                for (c, o) in cols.chunks_exact(nv).zip(out.chunks_exact_mut(6 * nv)) {
+                    write_columns(c, o);
+                }
+                Ok(())
+            },
+        )
     }
 
     /// Time derivative of the frame Jacobian at ``(q, v)``: shape ``(6, nv)`` (or stacked), in

@@ -485,9 +485,14 @@ impl PyModel {
         let f = Family::Kinematics;
         let q0 = states(q0, "q0", self.model.nq(), f)?;
         let q1 = states(q1, "q1", self.model.nq(), f)?;
-        run_with(py, self, &[&q0, &q1], &[self.model.nv()], f, |(), x, out| {
-            Ok(configuration::difference(&self.model, x[0], x[1], out)?)
-        })
+        run_with(
+            py,
+            self,
+            &[&q0, &q1],
+            &[self.model.nv()],
+            f,
+            |(), x, out| Ok(configuration::difference(&self.model, x[0], x[1], out)?),
+        )
     }
 
     /// The configuration a fraction ``t`` of the way from ``q0`` to ``q1`` on the manifold.
@@ -506,9 +511,14 @@ impl PyModel {
         let t = finite(t, "t", f)?;
         let q0 = states(q0, "q0", self.model.nq(), f)?;
         let q1 = states(q1, "q1", self.model.nq(), f)?;
-        run_with(py, self, &[&q0, &q1], &[self.model.nq()], f, |(), x, out| {
-            Ok(configuration::interpolate(&self.model, x[0], x[1], t, out)?)
-        })
+        run_with(
+            py,
+            self,
+            &[&q0, &q1],
+            &[self.model.nq()],
+            f,
+            |(), x, out| Ok(configuration::interpolate(&self.model, x[0], x[1], t, out)?),
+        )
     }
 
     /// ``q`` with the quaternions of spherical and floating joints normalized.
