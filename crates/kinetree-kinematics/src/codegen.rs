@@ -498,32 +498,32 @@ pub fn generate(
                 out,
                 "    return {name}_expr(q, math.sin, math.cos, math.sqrt)\n\n"
             );
-            let _ = writeln!(out, "def {name}_sympy():");
-            let _ = writeln!(
-                out,
-                "    \"\"\"(SymPy Matrix of the pose, the symbols q0 .. q{{NQ-1}}).\"\"\""
-            );
-            let _ = writeln!(out, "    import sympy");
-            let _ = writeln!(out, "    q = sympy.symbols(f\"q0:{{NQ}}\") if NQ else ()");
-            let _ = writeln!(
-                out,
-                "    return sympy.Matrix({name}_expr(q, sympy.sin, sympy.cos, sympy.sqrt)), q\n\n"
-            );
-            let _ = writeln!(out, "def {name}_casadi():");
-            let _ = writeln!(
-                out,
-                "    \"\"\"(CasADi SX 4x4 of the pose, the SX vector q).\"\"\""
-            );
-            let _ = writeln!(out, "    import casadi");
-            let _ = writeln!(out, "    q = casadi.SX.sym(\"q\", NQ)");
-            let _ = writeln!(
-                out,
-                "    m = {name}_expr([q[i] for i in range(NQ)], casadi.sin, casadi.cos, casadi.sqrt)"
-            );
-            let _ = writeln!(
-                out,
-                "    return casadi.vertcat(*[casadi.horzcat(*row) for row in m]), q"
-            );
+            // The symbolic front ends differ only in their symbols and the matrix they build.
+            let symbolic = [
+                (
+                    "sympy",
+                    "(SymPy Matrix of the pose, the symbols q0 .. q{NQ-1}).",
+                    "q = sympy.symbols(f\"q0:{NQ}\") if NQ else ()",
+                    "q",
+                    "sympy.Matrix(m)",
+                ),
+                (
+                    "casadi",
+                    "(CasADi SX 4x4 of the pose, the SX vector q).",
+                    "q = casadi.SX.sym(\"q\", NQ)",
+                    "[q[i] for i in range(NQ)]",
+                    "casadi.vertcat(*[casadi.horzcat(*row) for row in m])",
+                ),
+            ];
+            let functions: Vec<String> = symbolic
+                .iter()
+                .map(|(module, doc, symbols, args, matrix)| {
+                    format!(
+                        "def {name}_{module}():\n    \"\"\"{doc}\"\"\"\n    import {module}\n    {symbols}\n    m = {name}_expr({args}, {module}.sin, {module}.cos, {module}.sqrt)\n    return {matrix}, q\n"
+                    )
+                })
+                .collect();
+            out.push_str(&functions.join("\n\n"));
         }
     }
     Ok(out)
