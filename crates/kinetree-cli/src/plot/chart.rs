@@ -1,6 +1,6 @@
 //! Line charts (`kinetree simulate --plot`): axes with ticks, labels, a title and a legend.
 
-use super::{decimals, tick_step};
+use super::{decimals, tick_step, xml_escape};
 use std::fmt::Write;
 
 /// One named curve.
@@ -43,6 +43,8 @@ pub(crate) fn chart(
     if xmax == xmin {
         xmax = xmin + 1.0;
     }
+    // Titles, labels and series names come from the model (joint names): escaped once here.
+    let (title, x_label, y_label) = (xml_escape(title), xml_escape(x_label), xml_escape(y_label));
     let sx = |x: f64| x0 + left + (x - xmin) / (xmax - xmin) * pw;
     let sy = |y: f64| y0 + top + (1.0 - (y - ymin) / (ymax - ymin)) * ph;
     let _ = writeln!(
@@ -121,7 +123,58 @@ pub(crate) fn chart(
             lx + 18.0,
             lx + 22.0,
             ly + 4.0,
-            s.name
+            xml_escape(s.name)
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every `&` of `svg` starts an entity, and no `<` or `>` stands inside a text element.
+    fn assert_well_formed_text(svg: &str) {
+        for (at, _) in svg.match_indices('&') {
+            let rest = &svg[at..];
+            assert!(
+                ["&amp;", "&lt;", "&gt;", "&quot;"]
+                    .iter()
+                    .any(|e| rest.starts_with(e)),
+                "a bare & at {at}: {}",
+                &rest[..rest.len().min(20)]
+            );
+        }
+        for text in svg.split("<text").skip(1) {
+            let inner = &text[text.find('>').unwrap() + 1..text.find("</text>").unwrap()];
+            assert!(!inner.contains(['<', '>']), "markup inside a text: {inner}");
+        }
+    }
+
+    #[test]
+    fn names_with_xml_characters_are_escaped() {
+        let mut svg = String::new();
+        let series = [
+            Series {
+                name: "a&b",
+                points: vec![(0.0, 0.0), (1.0, 1.0)],
+            },
+            Series {
+                name: "<joint \"2\">",
+                points: vec![(0.0, 1.0), (1.0, 0.0)],
+            },
+        ];
+        chart(
+            &mut svg,
+            (0.0, 0.0, 800.0, 300.0),
+            "q of a&b <arm>",
+            "t [s]",
+            "q<rad>",
+            &series,
+        );
+        assert!(svg.contains(">q of a&amp;b &lt;arm&gt;</text>"), "{svg}");
+        assert!(svg.contains(">a&amp;b</text>"), "{svg}");
+        assert!(svg.contains(">&lt;joint &quot;2&quot;&gt;</text>"), "{svg}");
+        assert!(svg.contains(">q&lt;rad&gt;</text>"), "{svg}");
+        assert_well_formed_text(&svg);
     }
 }
