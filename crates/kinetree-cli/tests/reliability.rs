@@ -2,54 +2,11 @@
 //! work and overflowing states ends with a result or a clean refusal (exit code 1 and a message
 //! naming the problem), never a panic, a hang or a NaN printed as an answer.
 
+mod common;
+
+use common::*;
 use std::io::Write;
-use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-
-fn kinetree(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kinetree"))
-        .args(args)
-        .output()
-        .expect("the kinetree binary runs")
-}
-
-fn panda() -> String {
-    data("robots/panda.urdf")
-}
-
-fn data(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/data")
-        .join(rel)
-        .display()
-        .to_string()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-/// A clean refusal: exit code 1, no panic, and stderr containing every `needle`.
-#[track_caller]
-fn refused(o: &Output, needles: &[&str]) {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(1), "stderr: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "expected '{n}' in: {err}");
-    }
-}
-
-/// A scratch folder for this test process.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kinetree-rel-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 #[test]
 fn a_non_unit_floating_quaternion_is_refused_naming_the_joint_and_norm() {

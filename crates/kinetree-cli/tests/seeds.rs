@@ -1,22 +1,15 @@
 //! The seed libraries' ways at the command line: yapCAD files, joint values kept through a
 //! conversion, millimetres and degrees.
 
+mod common;
+
+use common::kinetree;
+use kinetree_test_support::assert_close;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn kinetree(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kinetree"))
-        .args(args)
-        .output()
-        .expect("the kinetree binary runs")
-}
-
 fn yapcad(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/data/yapcad")
-        .join(name)
-        .display()
-        .to_string()
+    common::data(&format!("yapcad/{name}"))
 }
 
 fn temp(name: &str) -> PathBuf {
@@ -59,8 +52,16 @@ fn convert_keeps_joint_values_and_writes_world_poses() {
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     // The exported values, in the file's mm and degrees.
-    assert!((joint(&doc, "j_base")["position"].as_f64().unwrap() - 30.0).abs() < 1e-9);
-    assert!((joint(&doc, "j_grip")["position"].as_f64().unwrap() - 25.0).abs() < 1e-9);
+    assert_close!(
+        joint(&doc, "j_base")["position"].as_f64().unwrap(),
+        30.0,
+        1e-9
+    );
+    assert_close!(
+        joint(&doc, "j_grip")["position"].as_f64().unwrap(),
+        25.0,
+        1e-9
+    );
     // The TCP's world pose, as yapCAD exported it: (238.510, 182.020, -53.928) mm.
     let tcp = doc["links"]
         .as_array()
@@ -75,7 +76,7 @@ fn convert_keeps_joint_values_and_writes_world_poses() {
         -53.928_336_505_207_085,
     ];
     for (k, e) in expected.iter().enumerate() {
-        assert!((xyz[k].as_f64().unwrap() - e).abs() < 1e-9, "{xyz}");
+        assert_close!(xyz[k].as_f64().unwrap(), e, 1e-9, 0.0, "{xyz}");
     }
     // Export → import keeps the joint values; --positions overrides them (in --units).
     let again = temp("arm2.json");
@@ -90,9 +91,21 @@ fn convert_keeps_joint_values_and_writes_world_poses() {
     ]));
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&again).unwrap()).unwrap();
-    assert!((joint(&doc, "j_base")["position"].as_f64().unwrap() - 30.0).abs() < 1e-9);
-    assert!((joint(&doc, "j_elbow")["position"].as_f64().unwrap() + 10.0).abs() < 1e-9);
-    assert!((joint(&doc, "j_grip")["position"].as_f64().unwrap() - 5.0).abs() < 1e-9);
+    assert_close!(
+        joint(&doc, "j_base")["position"].as_f64().unwrap(),
+        30.0,
+        1e-9
+    );
+    assert_close!(
+        joint(&doc, "j_elbow")["position"].as_f64().unwrap(),
+        -10.0,
+        1e-9
+    );
+    assert_close!(
+        joint(&doc, "j_grip")["position"].as_f64().unwrap(),
+        5.0,
+        1e-9
+    );
     // Frames attached by parent_frame keep it.
     assert_eq!(joint(&doc, "j_grip")["parent_frame"], "TOOL_FLANGE");
     // URDF holds no state.
@@ -160,7 +173,7 @@ fn units_mm_deg_on_ik_dynamics_and_collide() {
         } else {
             a.to_degrees()
         };
-        assert!((b - expected).abs() < 1e-6, "{j}: {b} vs {expected}");
+        assert_close!(b, expected, 1e-6, 0.0, "{j}: {b} vs {expected}");
     }
     // dynamics: q in degrees and v in deg/s give the torques of the same state in rad.
     let model = panda();
@@ -187,7 +200,7 @@ fn units_mm_deg_on_ik_dynamics_and_collide() {
     ]);
     assert_eq!(a.len(), 9);
     for (x, y) in a.iter().zip(&b) {
-        assert!((x - y).abs() < 1e-5, "{a:?} vs {b:?}");
+        assert_close!(x, y, 1e-5, 0.0, "{a:?} vs {b:?}");
     }
     // collide: the closest pair's distance printed in mm is a thousand times the one in m.
     let closest = |args: &[&str]| -> (String, f64) {
@@ -215,7 +228,7 @@ fn units_mm_deg_on_ik_dynamics_and_collide() {
     assert!(m_header.contains("signed distance, m)"), "{m_header}");
     assert!(mm_header.contains("signed distance, mm)"), "{mm_header}");
     assert!(m.abs() > 1e-3, "{m}");
-    assert!((mm - m * 1000.0).abs() < 1e-2, "{mm} vs {m}");
+    assert_close!(mm, m * 1000.0, 1e-2, 0.0, "{mm} vs {m}");
 }
 
 #[test]
@@ -264,10 +277,10 @@ fn codegen_writes_python_that_agrees_with_compute() {
     for i in 0..3 {
         for j in 0..3 {
             let r = pose["rotation"][i][j].as_f64().unwrap();
-            assert!((rows[i][j] - r).abs() < 1e-12, "R[{i}][{j}]: {text}");
+            assert_close!(rows[i][j], r, 1e-12, 0.0, "R[{i}][{j}]: {text}");
         }
         let t = pose["translation"][i].as_f64().unwrap();
-        assert!((rows[i][3] - t).abs() < 1e-12, "t[{i}]: {text}");
+        assert_close!(rows[i][3], t, 1e-12, 0.0, "t[{i}]: {text}");
     }
     assert_eq!(rows[3], [0.0, 0.0, 0.0, 1.0]);
     // An unknown frame is an error naming it.
@@ -302,7 +315,7 @@ fn compute_reports_named_frames_poses() {
     // The base's MOUNT datum sits 40 mm above the base part's origin, which is on the world's.
     let mount = &all["MOUNT"]["translation"];
     for (k, want) in [0.0, 0.0, 0.04].into_iter().enumerate() {
-        assert!((mount[k].as_f64().unwrap() - want).abs() < 1e-12, "{all}");
+        assert_close!(mount[k].as_f64().unwrap(), want, 1e-12, 0.0, "{all}");
     }
     // One frame asked for by name: the same pose, and only that one.
     let one = run("SHOULDER");
@@ -358,12 +371,12 @@ fn compute_takes_and_prints_millimetres_and_degrees() {
                 a["link_poses"][link]["translation"][k].as_f64().unwrap(),
                 b["link_poses"][link]["translation"][k].as_f64().unwrap(),
             );
-            assert!((y - 1000.0 * x).abs() < 1e-9, "{link}: {x} vs {y}");
+            assert_close!(y, 1000.0 * x, 1e-9, 0.0, "{link}: {x} vs {y}");
             let (r, s) = (
                 a["link_poses"][link]["rotation"][k][0].as_f64().unwrap(),
                 b["link_poses"][link]["rotation"][k][0].as_f64().unwrap(),
             );
-            assert!((r - s).abs() < 1e-12);
+            assert_close!(r, s, 1e-12);
         }
     }
     let (ka, kb) = (
@@ -372,5 +385,5 @@ fn compute_takes_and_prints_millimetres_and_degrees() {
     );
     assert!(ka > 0.0 && (ka - kb).abs() < 1e-12, "{ka} vs {kb}");
     let (ca, cb) = (a["com"][2].as_f64().unwrap(), b["com"][2].as_f64().unwrap());
-    assert!((cb - 1000.0 * ca).abs() < 1e-9);
+    assert_close!(cb, 1000.0 * ca, 1e-9);
 }

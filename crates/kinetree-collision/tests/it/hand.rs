@@ -8,6 +8,7 @@ use kinetree_collision::{
     CollisionData, CollisionModel, CollisionOptions, Proximity, any_collision, compute_distances,
     compute_self_collisions,
 };
+use kinetree_test_support::assert_close;
 
 /// Two links `a` and `b` on prismatic joints along world x from a common base (sibling bodies,
 /// so they are a candidate pair), with the given collision elements.
@@ -48,7 +49,7 @@ fn measure(model: &Model, qa: f64, qb: f64) -> (Proximity, bool) {
     let contacts = compute_self_collisions(&cmodel, &mut data).unwrap();
     assert_eq!(contacts.len(), usize::from(hit));
     if hit {
-        assert!((contacts[0].distance - p.distance).abs() < 1e-9);
+        assert_close!(contacts[0].distance, p.distance, 1e-9);
     }
     (p, hit)
 }
@@ -64,14 +65,14 @@ fn two_spheres() {
         &collision(r#"xyz="0 0 0""#, r#"<sphere radius="0.2"/>"#),
     );
     let (p, hit) = measure(&model, 0.0, 1.0);
-    assert!((p.distance - 0.7).abs() < 1e-12);
+    assert_close!(p.distance, 0.7, 1e-12);
     assert!(!hit);
     assert!(close(p.point_a, DVec3::new(0.1, 0.0, 0.0)));
     assert!(close(p.point_b, DVec3::new(0.8, 0.0, 0.0)));
     assert!(close(p.normal, DVec3::X));
     // Overlapping by 0.1: signed distance -0.1, deepest points on each surface.
     let (p, hit) = measure(&model, 0.5, 0.7);
-    assert!((p.distance + 0.1).abs() < 1e-12);
+    assert_close!(p.distance, -0.1, 1e-12);
     assert!(hit);
     assert!(close(p.point_a, DVec3::new(0.6, 0.0, 0.0)));
     assert!(close(p.point_b, DVec3::new(0.5, 0.0, 0.0)));
@@ -86,11 +87,11 @@ fn sphere_and_box() {
     );
     // Facing the corner region: closest box point (0.1, 0.2, 0.3), centre (0.5, 0.5, 0.5).
     let (p, _) = measure(&model, 0.0, 0.5);
-    assert!((p.distance - (0.29_f64.sqrt() - 0.1)).abs() < 1e-9, "{p:?}");
+    assert_close!(p.distance, (0.29_f64.sqrt() - 0.1), 1e-9, 0.0, "{p:?}");
     assert!(close(p.point_a, DVec3::new(0.1, 0.2, 0.3)));
     // Facing the edge y = 0.2, z = 0.3: closest box point (0, 0.2, 0.3).
     let (p, hit) = measure(&model, 0.0, 0.0);
-    assert!((p.distance - (0.13_f64.sqrt() - 0.1)).abs() < 1e-9, "{p:?}");
+    assert_close!(p.distance, (0.13_f64.sqrt() - 0.1), 1e-9, 0.0, "{p:?}");
     assert!(close(p.point_a, DVec3::new(0.0, 0.2, 0.3)));
     assert!(!hit);
     // Facing the +y face: sphere centre (0, 0.5, 0) is 0.3 from it.
@@ -99,7 +100,7 @@ fn sphere_and_box() {
         &collision(r#"xyz="0 0.5 0""#, r#"<sphere radius="0.1"/>"#),
     );
     let (p, _) = measure(&model_face, 0.05, 0.0);
-    assert!((p.distance - 0.2).abs() < 1e-9, "{p:?}");
+    assert_close!(p.distance, 0.2, 1e-9, 0.0, "{p:?}");
     assert!(close(p.normal, DVec3::Y));
     // Box moved so the sphere centre (0, 0.5, 0.5) is inside it, 0.05 below the top face
     // (box 0.2 x 0.4 x 0.6 centred at (0, 0.5, 0.5) via a second model): depth = 0.05 + 0.1.
@@ -109,7 +110,7 @@ fn sphere_and_box() {
     );
     let (p, hit) = measure(&model, 0.0, 0.0);
     assert!(hit);
-    assert!((p.distance + 0.15).abs() < 1e-9, "{p:?}");
+    assert_close!(p.distance, -0.15, 1e-9, 0.0, "{p:?}");
     assert!(close(p.normal, DVec3::Z), "{p:?}");
 }
 
@@ -138,13 +139,13 @@ fn cylinder_rim() {
         ),
     );
     let (p, hit) = measure(&model, 0.0, 0.3);
-    assert!((p.distance - 0.02_f64.sqrt()).abs() < 1e-8, "{p:?}");
+    assert_close!(p.distance, 0.02_f64.sqrt(), 1e-8, 0.0, "{p:?}");
     assert!(!hit);
     // Overlapping side by side (axes 0.15 apart): penetration depth 0.05 across the sides.
     let model = two_links(&cylinder, &cylinder);
     let (p, hit) = measure(&model, 0.0, 0.15);
     assert!(hit);
-    assert!((p.distance + 0.05).abs() < 1e-6, "{p:?}");
+    assert_close!(p.distance, -0.05, 1e-6, 0.0, "{p:?}");
     // A cylinder turned by the element's origin (axis along world y): a sphere on the y axis
     // at 0.3 is 0.3 - 0.2 - 0.05 away.
     let model = two_links(
@@ -155,5 +156,5 @@ fn cylinder_rim() {
         &collision(r#"xyz="0 0.3 0""#, r#"<sphere radius="0.05"/>"#),
     );
     let (p, _) = measure(&model, 0.0, 0.0);
-    assert!((p.distance - 0.05).abs() < 1e-9, "{p:?}");
+    assert_close!(p.distance, 0.05, 1e-9, 0.0, "{p:?}");
 }

@@ -7,6 +7,7 @@ use kinetree_collision::{
     CollisionData, CollisionError, CollisionModel, CollisionOptions, MeshMode, any_collision,
     compute_distances,
 };
+use kinetree_test_support::assert_close;
 
 fn robot(mesh: &str, scale: &str) -> kinetree_collision::kinematics::model::Model {
     urdf(&format!(
@@ -66,7 +67,7 @@ fn meshes_load_through_search_paths_and_collide() {
             data.compute_placements(&model, &cmodel, &mut kinematics, &q)
                 .unwrap();
             let d = compute_distances(&cmodel, &mut data).unwrap()[0].distance;
-            assert!((d - expected).abs() < 1e-6, "{file} {mode:?} x = {x}: {d}");
+            assert_close!(d, expected, 1e-6, 0.0, "{file} {mode:?} x = {x}: {d}");
             assert_eq!(
                 any_collision(&cmodel, &mut data).unwrap(),
                 expected < 0.0,
@@ -163,7 +164,7 @@ fn offset_box() -> std::path::PathBuf {
 fn mirroring_keeps_the_mesh_outward_and_its_volume() {
     use glam::DVec3;
     let mesh = read_mesh_file(&offset_box()).unwrap();
-    assert!((mesh.signed_volume() - 1.0).abs() < 1e-12);
+    assert_close!(mesh.signed_volume(), 1.0, 1e-12);
     for (scale, volume) in [
         (DVec3::new(1.0, -1.0, 1.0), 1.0),
         (DVec3::new(-1.0, -1.0, 1.0), 1.0),
@@ -207,7 +208,7 @@ fn a_mirrored_mesh_collides_where_its_mirror_image_is() {
             data.compute_placements(&model, &cmodel, &mut kinematics, &q)
                 .unwrap();
             let d = compute_distances(&cmodel, &mut data).unwrap()[0].distance;
-            assert!((d - expected).abs() < 1e-9, "{mode:?} y = {y}: {d}");
+            assert_close!(d, expected, 1e-9, 0.0, "{mode:?} y = {y}: {d}");
         }
     }
     // A zero or non-finite factor stays an error naming the link.

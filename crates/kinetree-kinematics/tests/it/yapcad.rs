@@ -3,6 +3,7 @@
 
 use kinetree_kinematics::model::{Issue, JointKind, Model};
 use kinetree_kinematics::{Chain, FrameId, KinematicsData, forward_kinematics};
+use kinetree_test_support::assert_close;
 
 fn data(name: &str) -> String {
     format!(
@@ -36,7 +37,7 @@ fn the_quickstart_export_loads_with_its_joint_value() {
     let model = assert_fk_matches_export("yap_quickstart.yapcad.json");
     assert_eq!((model.nq(), model.links().len()), (1, 2));
     let chain = Model::from_yapcad_file(data("yap_quickstart.yapcad.json")).unwrap();
-    assert!((chain.q[0] - core::f64::consts::FRAC_PI_4).abs() < 1e-15);
+    assert_close!(chain.q[0], core::f64::consts::FRAC_PI_4, 1e-15);
     let j = model.joint(model.joint_index("joint1").unwrap());
     // yapCAD's default limits: ±180°.
     assert_eq!(
@@ -75,11 +76,11 @@ fn the_arm_export_loads_in_si_with_frames_and_metadata() {
         -0.053_928_336_505_207_085,
     ];
     for (a, b) in tcp.translation.to_array().iter().zip(expected) {
-        assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+        assert_close!(a, b, 1e-12, 0.0, "{a} vs {b}");
     }
     // Part frames: `part/frame`, and the implicit ORIGIN of every part.
     let mount = chain.world_from("BASE/MOUNT").unwrap();
-    assert!((mount.translation.z - 0.04).abs() < 1e-15);
+    assert_close!(mount.translation.z, 0.04, 1e-15);
     let origin = FrameId::find(&model, "FOREARM/ORIGIN").unwrap();
     assert_eq!(origin, FrameId::Link(model.link_index("FOREARM").unwrap()));
 }
@@ -104,7 +105,7 @@ fn a_world_pose_that_disagrees_is_a_warning_naming_the_part_and_the_distance() {
         panic!("expected one mismatch, got {:?}", chain.model.warnings());
     };
     assert_eq!(part, "GRIPPER");
-    assert!((distance - 0.005).abs() < 1e-12, "{distance}");
+    assert_close!(distance, 0.005, 1e-12, 0.0, "{distance}");
     assert!(*angle < 1e-12);
     let message = chain.model.warnings()[0].to_string();
     assert!(
@@ -150,8 +151,8 @@ fn datums_resolve_on_their_own_and_reload_into_a_live_chain() {
     };
     write(10.0);
     let pose = datum::resolve_datum(&servo, "shaft").unwrap();
-    assert!((pose.translation.z - 0.01).abs() < 1e-15);
-    assert!((pose.rotation.x_axis.y - 1.0).abs() < 1e-15);
+    assert_close!(pose.translation.z, 0.01, 1e-15);
+    assert_close!(pose.rotation.x_axis.y, 1.0, 1e-15);
     // A model whose horn part hangs from the datum frame.
     let model_json = r#"{"name": "servo_arm", "units": {"length": "mm", "angle": "deg"},
       "links": [{"name": "body"}, {"name": "horn"}],
@@ -172,7 +173,7 @@ fn datums_resolve_on_their_own_and_reload_into_a_live_chain() {
     assert!((after.translation - glam::DVec3::new(0.0, 0.005, 0.025)).length() < 1e-15);
     assert!(after.rotation.abs_diff_eq(before.rotation, 1e-15));
     let shaft = chain.world_from("body/shaft").unwrap();
-    assert!((shaft.translation.z - 0.025).abs() < 1e-15);
+    assert_close!(shaft.translation.z, 0.025, 1e-15);
     // Nothing changed: nothing to do.
     assert_eq!(chain.reload_datums(Some(&dir)).unwrap(), 0);
     // A missing datum names both the file and the datum, and leaves the chain as it was.
@@ -187,7 +188,11 @@ fn datums_resolve_on_their_own_and_reload_into_a_live_chain() {
         e,
         kinetree_kinematics::KinematicsError::Model(ModelError::Datum { .. })
     ));
-    assert!((chain.world_from("horn").unwrap().translation.z - 0.025).abs() < 1e-15);
+    assert_close!(
+        chain.world_from("horn").unwrap().translation.z,
+        0.025,
+        1e-15
+    );
     std::fs::remove_file(&servo).unwrap();
     let e = datum::resolve_datum(&servo, "shaft").unwrap_err();
     assert!(

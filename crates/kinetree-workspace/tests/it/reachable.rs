@@ -3,6 +3,7 @@
 //! input errors.
 
 use crate::reference_dir;
+use kinetree_test_support::assert_close;
 use kinetree_workspace::kinematics::model::{Model, RootJoint, samples};
 use kinetree_workspace::kinematics::spatial::{DQuat, DVec3};
 use kinetree_workspace::kinematics::{FrameId, KinematicsError};
@@ -49,7 +50,7 @@ fn planar_2r_samples_fill_its_annulus() {
         };
         assert!(lo - inner < tol, "{params:?}: min radius {lo}");
         assert!(outer - hi < tol, "{params:?}: max radius {hi}");
-        assert!((set.max_reach(DVec3::ZERO).unwrap() - hi).abs() < 1e-15);
+        assert_close!(set.max_reach(DVec3::ZERO).unwrap(), hi, 1e-15);
         let b = set.bounds();
         assert!((b.max.x - outer).abs() < tol && (b.min.y + outer).abs() < tol);
     }
@@ -120,7 +121,7 @@ fn planar_2r_manipulability_is_l1_l2_sin_q2() {
     for (&p, &w) in set.positions().iter().zip(set.manipulability()) {
         let c = ((p.length_squared() - L1 * L1 - L2 * L2) / (2.0 * L1 * L2)).clamp(-1.0, 1.0);
         let expected = L1 * L2 * (1.0 - c * c).sqrt();
-        assert!((w - expected).abs() < 1e-6, "{w} vs {expected}");
+        assert_close!(w, expected, 1e-6, 0.0, "{w} vs {expected}");
     }
 }
 
@@ -145,7 +146,7 @@ fn planar_2r_pose_task_keeps_orientations_and_uses_six_rows() {
         let (a, b, c) = (c1.dot(c1) + 1.0, c1.dot(c2) + 1.0, c2.dot(c2) + 1.0);
         let expected = (a * c - b * b).max(0.0).sqrt();
         let w = set.manipulability()[i];
-        assert!((w - expected).abs() < 1e-9, "{w} vs {expected}");
+        assert_close!(w, expected, 1e-9, 0.0, "{w} vs {expected}");
     }
     assert!(planar(&ReachableParams::grid(3)).orientations().is_none());
 }
@@ -188,7 +189,7 @@ fn ur5_tool0_reach_from_the_shoulder_matches_its_link_lengths() {
             across.hypot(within)
         })
         .fold(0.0, f64::max);
-    assert!((analytic - 0.949).abs() < 1e-3, "{analytic}");
+    assert_close!(analytic, 0.949, 1e-3, 0.0, "{analytic}");
     let shoulder = DVec3::new(0.0, 0.0, d1);
     let tool0 = FrameId::find(&model, "tool0").unwrap();
     let set = sample_reachable(&model, tool0, &ReachableParams::random(200_000, 1)).unwrap();
@@ -292,8 +293,8 @@ fn exports_hold_every_sample() {
         .split(',')
         .map(|x| x.parse().unwrap())
         .collect();
-    assert!((first[0] - set.positions()[0].x).abs() < 1e-15);
-    assert!((first[3] - set.manipulability()[0]).abs() < 1e-15);
+    assert_close!(first[0], set.positions()[0].x, 1e-15);
+    assert_close!(first[3], set.manipulability()[0], 1e-15);
     assert_eq!(csv.lines().count(), 101);
 
     let mut ply = Vec::new();
@@ -317,9 +318,9 @@ fn exports_hold_every_sample() {
     let samples = v["samples"].as_array().unwrap();
     assert_eq!(samples.len(), 100);
     let y = samples[7][1].as_f64().unwrap();
-    assert!((y - set.positions()[7].y).abs() < 1e-15);
+    assert_close!(y, set.positions()[7].y, 1e-15);
     let max_x = v["bounds"]["max"][0].as_f64().unwrap();
-    assert!((max_x - set.bounds().max.x).abs() < 1e-15);
+    assert_close!(max_x, set.bounds().max.x, 1e-15);
 
     let pose = planar(&ReachableParams::random(10, 9).with_task(TaskSpace::Pose));
     let mut json = Vec::new();
