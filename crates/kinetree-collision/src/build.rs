@@ -60,8 +60,8 @@ impl CollisionOptions {
         self
     }
 
-    /// Sets the mesh search paths for a model read from `model_file`: `extra` first, then the
-    /// model file's directory ([`crate::mesh::model_search_paths`], the rule every tool uses).
+    /// Sets the mesh search paths for a model read from `model_file`: the model file's
+    /// directory first, then `extra` ([`crate::mesh::model_search_paths`], the rule every tool uses).
     #[must_use]
     pub fn with_model_file(mut self, model_file: &std::path::Path, extra: &[PathBuf]) -> Self {
         self.mesh_search_paths = crate::mesh::model_search_paths(model_file, extra);

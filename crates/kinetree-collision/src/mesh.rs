@@ -94,22 +94,26 @@ pub fn candidate_paths(filename: &str, search_paths: &[PathBuf]) -> Vec<PathBuf>
     search_paths.iter().map(|d| d.join(path)).collect()
 }
 
-/// The mesh search paths for a model read from `model_file`: the user's directories (`extra`,
-/// tried first, in order), then the directory that contains the model file.
+/// The mesh search paths for a model read from `model_file`: the directory that contains the
+/// model file first (a relative name in a model file is relative to that file, as in any
+/// document), then the user's directories (`extra`, in order).
 ///
 /// This is the one rule by which the CLI's commands (`collide`, `compute`, `bench`, `view`)
 /// find meshes: relative names and `package://` names are looked up next to the model file
 /// with no flag, so the bundled `tests/data/robots/panda.urdf` finds
-/// `tests/data/robots/panda_description/meshes/…`.
+/// `tests/data/robots/panda_description/meshes/…`, and a `--mesh-path` directory supplies
+/// what is not there.
 #[must_use]
 pub fn model_search_paths(model_file: &Path, extra: &[PathBuf]) -> Vec<PathBuf> {
-    let mut paths = extra.to_vec();
     let dir = model_file
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-    if !paths.contains(&dir) {
-        paths.push(dir);
+    let mut paths = vec![dir];
+    for d in extra {
+        if !paths.contains(d) {
+            paths.push(d.clone());
+        }
     }
     paths
 }
@@ -375,11 +379,11 @@ mod tests {
     }
 
     #[test]
-    fn model_search_paths_end_with_the_model_directory() {
+    fn model_search_paths_start_with_the_model_directory() {
         let extra = [PathBuf::from("/m")];
         assert_eq!(
             model_search_paths(Path::new("/r/robot.urdf"), &extra),
-            [PathBuf::from("/m"), PathBuf::from("/r")]
+            [PathBuf::from("/r"), PathBuf::from("/m")]
         );
         assert_eq!(
             model_search_paths(Path::new("robot.urdf"), &[]),

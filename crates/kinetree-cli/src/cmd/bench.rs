@@ -7,8 +7,8 @@
 //! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians",
 //! "rnea", "nle", "crba", "aba", "minv", "rnea_derivatives", "aba_derivatives", "collision_any",
 //! "collision_distances"}}` (the collision keys
-//! only for models with collision geometry; meshes are looked up next to the model file and
-//! skipped when missing); the keys stay stable so scripts can compare runs.
+//! only for models with collision geometry; meshes are looked up next to the model file, then
+//! in the `--mesh-path` directories, and skipped when missing); the keys stay stable so scripts can compare runs.
 //! `"pinocchio_ns_per_call"` repeats the like-for-like timings under the names of Pinocchio's
 //! anchor benchmark (`fk+frames`, `jacobians`, `rnea`, `nle`, `crba`, `aba`, `minverse`,
 //! `rnea_derivatives`, `aba_derivatives`), so a side-by-side script needs no mapping. kinetree's
@@ -54,6 +54,10 @@ pub(crate) struct Args {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
+    /// A directory where collision meshes are looked up (`package://` and relative names) after
+    /// the model file's directory, as in `collide`; repeatable.
+    #[arg(long = "mesh-path")]
+    mesh_paths: Vec<PathBuf>,
     /// Run even when --calls × (--repetitions + 1) exceeds the limit of 10⁹ calls per algorithm.
     #[arg(long)]
     no_limit: bool,
@@ -261,7 +265,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     ));
 
     let options = kinetree::collision::CollisionOptions::default()
-        .with_model_file(&args.model, &[])
+        .with_model_file(&args.model, &args.mesh_paths)
         .skip_missing_meshes();
     if let Ok(cmodel) = kinetree::collision::CollisionModel::from_model(&model, &options)
         && !cmodel.pairs().is_empty()

@@ -28,7 +28,7 @@ pub(crate) struct Args {
     /// A JSON scene of world obstacles.
     #[arg(long)]
     obstacles: Option<PathBuf>,
-    /// A directory where meshes are looked up (`package://` and relative names) before the
+    /// A directory where meshes are looked up (`package://` and relative names) after the
     /// model file's directory; repeatable.
     #[arg(long = "mesh-path")]
     mesh_paths: Vec<PathBuf>,

@@ -83,7 +83,7 @@ pub(crate) struct Args {
     /// Add `collision` to each sample: the minimum signed distance of every candidate link pair.
     #[arg(long)]
     collision: bool,
-    /// A directory where collision meshes are looked up (`package://` and relative names) before
+    /// A directory where collision meshes are looked up (`package://` and relative names) after
     /// the model file's directory; repeatable.
     #[arg(long = "mesh-path")]
     mesh_paths: Vec<PathBuf>,

@@ -58,7 +58,7 @@ pub(crate) struct Args {
     /// Attach the root link by a 6-DoF floating joint named `root_joint`.
     #[arg(long)]
     floating: bool,
-    /// A directory where meshes are looked up before the model file's directory; repeatable.
+    /// A directory where meshes are looked up after the model file's directory; repeatable.
     #[arg(long = "mesh-path")]
     mesh_paths: Vec<PathBuf>,
     /// An SRDF file whose disabled collision pairs are left out of the collision display.

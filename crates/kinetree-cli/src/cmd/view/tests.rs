@@ -265,35 +265,35 @@ fn bad_requests_get_their_status_and_the_server_keeps_serving() {
         ("GET", "/nowhere", Vec::new(), 404, "no such page"),
         (
             "GET",
-            "/meshes/1/../panda.urdf",
+            "/meshes/0/../panda.urdf",
             Vec::new(),
             404,
             "no such mesh",
         ),
         (
             "GET",
-            "/meshes/1/%2E%2E/panda.urdf",
+            "/meshes/0/%2E%2E/panda.urdf",
             Vec::new(),
             404,
             "no such mesh",
         ),
         (
             "GET",
-            "/meshes/1//etc/passwd",
+            "/meshes/0//etc/passwd",
             Vec::new(),
             404,
             "no such mesh",
         ),
         (
             "GET",
-            "/meshes/1/%2Fetc%2Fpasswd",
+            "/meshes/0/%2Fetc%2Fpasswd",
             Vec::new(),
             404,
             "no such mesh",
         ),
         (
             "GET",
-            "/meshes/0/escape.stl",
+            "/meshes/1/escape.stl",
             Vec::new(),
             404,
             "no such mesh",
@@ -316,8 +316,8 @@ fn bad_requests_get_their_status_and_the_server_keeps_serving() {
         let (ok, _) = http(port, "GET", "/api/model", b"");
         assert_eq!(ok, 200, "after {method} {path}");
     }
-    // The model directory (index 1 after the --mesh-path) serves its own files.
-    let (ok, _) = http(port, "GET", "/meshes/1/panda.urdf", b"");
+    // The model directory (index 0, before the --mesh-path) serves its own files.
+    let (ok, _) = http(port, "GET", "/meshes/0/panda.urdf", b"");
     assert_eq!(ok, 200);
     running.stop();
     std::fs::remove_dir_all(&dir).unwrap();
@@ -550,4 +550,44 @@ fn fuzzed_api_bodies_get_an_answer_or_a_bad_request() {
     }
     // Both outcomes are exercised, not only the refusals.
     assert!(ok > 100 && bad > 100, "{ok} answers, {bad} refusals");
+}
+
+/// The viewer finds a relative mesh name by the rule of every command: next to the model file
+/// first, then in the `--mesh-path` directories.
+#[test]
+fn relative_meshes_are_found_next_to_the_model_before_the_mesh_paths() {
+    let root = std::env::temp_dir().join(format!("kinetree-view-meshes-{}", std::process::id()));
+    let (model_dir, other) = (root.join("model"), root.join("other"));
+    for dir in [&model_dir, &other] {
+        std::fs::create_dir_all(dir.join("meshes")).unwrap();
+        std::fs::write(
+            dir.join("meshes/cube.obj"),
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        )
+        .unwrap();
+    }
+    let urdf = model_dir.join("robot.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="cube"><link name="a"><visual><geometry><mesh filename="meshes/cube.obj"/></geometry></visual></link></robot>"#,
+    )
+    .unwrap();
+    let found = |mesh_paths: Vec<PathBuf>| {
+        let state = State::new(&Args {
+            model: urdf.clone(),
+            mesh_paths,
+            no_open: true,
+            ..Args::default()
+        })
+        .unwrap();
+        let files: Vec<PathBuf> = state.mesh_files.values().cloned().collect();
+        files
+    };
+    let own = model_dir.join("meshes/cube.obj").canonicalize().unwrap();
+    let theirs = other.join("meshes/cube.obj").canonicalize().unwrap();
+    assert_eq!(found(vec![other.clone()]), [own]);
+    std::fs::remove_file(model_dir.join("meshes/cube.obj")).unwrap();
+    assert_eq!(found(vec![other.clone()]), [theirs]);
+    assert!(found(Vec::new()).is_empty());
+    std::fs::remove_dir_all(&root).unwrap();
 }
