@@ -235,9 +235,7 @@ pub(crate) fn compute(
             return Err(crate::error::overflow(model, data, what, dof, f64::NAN));
         }
         singular.sort_unstable();
-        return Err(DynamicsError::SingularMassMatrix {
-            joints: data.joint_names(model, &singular),
-        });
+        return Err(singular_error(model, data, &singular));
     }
     // Pass 3, root to leaves: accelerations.
     let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
@@ -403,5 +401,64 @@ impl ArticulatedInertia {
     #[inline]
     pub(crate) fn scale(&self) -> f64 {
         self.a.trace().abs() + self.c.trace().abs()
+    }
+}
+
+/// Placements farther than this from the origin (metres) are beyond any robot: a singular
+/// pivot there is a loss of precision, not a massless subtree.
+const ILL_CONDITIONED_REACH: f64 = 1e6;
+
+/// Body masses (or rotational inertias) further apart than this ratio leave the lighter ones
+/// below the pivot tolerance.
+const ILL_CONDITIONED_MASS_RATIO: f64 = 1e12;
+
+/// The error for vanished pivots at degrees of freedom `dofs` (sorted): a massless subtree, or,
+/// when the subtrees carry mass and the links are absurdly far out or the masses (or inertias)
+/// absurdly different, a loss of precision. Reads the world placements in `data.kinematics`.
+pub(crate) fn singular_error(model: &Model, data: &DynamicsData, dofs: &[usize]) -> DynamicsError {
+    let bodies = model.bodies();
+    let reach = data
+        .kinematics
+        .world_from_body()
+        .iter()
+        .map(|x| x.translation.length())
+        .fold(0.0, f64::max);
+    // The body masses and rotational inertias (largest principal-axis entry), as magnitudes.
+    let (lightest, heaviest) = bodies
+        .iter()
+        .flat_map(|b| {
+            let r = &b.inertia.rotational;
+            [b.inertia.mass, r.xx.max(r.yy).max(r.zz)]
+        })
+        .filter(|&m| m > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), m| {
+            (lo.min(m), hi.max(m))
+        });
+    let carries_mass = |dof: usize| {
+        let Some(top) = (1..bodies.len())
+            .find(|&i| (bodies[i].idx_v..bodies[i].idx_v + bodies[i].nv).contains(&dof))
+        else {
+            return false;
+        };
+        (top..bodies.len()).any(|mut j| {
+            let massive = bodies[j].inertia.mass > 0.0;
+            while j > top {
+                j = bodies[j].parent;
+            }
+            j == top && massive
+        })
+    };
+    let massive: Vec<usize> = dofs.iter().copied().filter(|&d| carries_mass(d)).collect();
+    let ill_conditioned =
+        reach > ILL_CONDITIONED_REACH || heaviest > ILL_CONDITIONED_MASS_RATIO * lightest;
+    if ill_conditioned && !massive.is_empty() {
+        return DynamicsError::IllConditionedMassMatrix {
+            joints: data.joint_names(model, &massive),
+            reach,
+            masses: [lightest, heaviest],
+        };
+    }
+    DynamicsError::SingularMassMatrix {
+        joints: data.joint_names(model, dofs),
     }
 }

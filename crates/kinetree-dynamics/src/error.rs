@@ -31,8 +31,9 @@ pub enum DynamicsError {
     /// NaN (velocities, masses, lengths or torques too large for `f64` arithmetic). Never a
     /// non-finite value in an `Ok`.
     #[error(
-        "{what} overflowed{} (got {value}) although every input is finite: the state or the model's masses, inertias or lengths are too large",
-        if joint.is_empty() { String::new() } else { format!(" at joint '{joint}'") }
+        "{what} overflowed{} (got {}) although every input is finite: the state or the model's masses, inertias or lengths are too large",
+        if joint.is_empty() { String::new() } else { format!(" at joint '{joint}'") },
+        kinetree_kinematics::spatial::Readable(*value)
     )]
     Overflow {
         /// The result that overflowed (`"tau"`, `"ddq"`, `"mass matrix"`, `"v"` …).
@@ -77,6 +78,26 @@ pub enum DynamicsError {
         /// The joints whose pivots vanished, in body order.
         joints: Vec<String>,
     },
+    /// The mass matrix is singular to `f64` precision although the named joints carry mass:
+    /// links are so far from the origin (a state that has run away, or lengths far beyond any
+    /// robot) or masses and inertias so different that the articulated inertias lose every
+    /// significant digit.
+    #[error(
+        "the mass matrix is numerically singular at joint(s) {}: they carry mass, but links are {:.1e} m from the origin and masses and inertias range from {:.1e} to {:.1e} (kg, kg·m²), beyond what f64 arithmetic resolves (a diverging state, or absurd lengths, masses or inertias)",
+        .joints.join(", "),
+        .reach,
+        .masses[0],
+        .masses[1]
+    )]
+    IllConditionedMassMatrix {
+        /// The joints whose pivots vanished although their subtrees have mass, in body order.
+        joints: Vec<String>,
+        /// The largest distance of a link origin from the world origin, in metres.
+        reach: f64,
+        /// The smallest positive and the largest body mass or rotational inertia (diagonal
+        /// entry about the centre of mass), in kg and kg·m².
+        masses: [f64; 2],
+    },
     /// No link or frame has this name.
     #[error("unknown link or frame '{name}'")]
     UnknownLink {
@@ -101,7 +122,7 @@ pub enum DynamicsError {
     #[error("the mass matrix has not been factorized (call factorize_mass_matrix first)")]
     NotFactorized,
     /// A time step that is not positive and finite.
-    #[error("time step {dt} is not positive and finite")]
+    #[error("time step {} is not positive and finite", kinetree_kinematics::spatial::Readable(*dt))]
     InvalidTimeStep {
         /// The step given (s).
         dt: f64,

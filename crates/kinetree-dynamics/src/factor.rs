@@ -104,9 +104,24 @@ pub(crate) fn factorize(model: &Model, data: &mut DynamicsData) -> Result<(), Dy
                 d.is_nan() || d <= tolerance
             })
             .collect();
-        return Err(DynamicsError::SingularMassMatrix {
-            joints: data.joint_names(model, &dofs),
-        });
+        // A pivot that is NaN, or a scale that is not finite, is an overflow (huge masses,
+        // inertias or lengths), not a massless subtree.
+        if let Some(&k) = dofs
+            .iter()
+            .find(|&&k| !data.factor[k * nv + k].is_finite())
+            .or_else(|| (!tolerance.is_finite()).then_some(&0))
+        {
+            return Err(crate::error::overflow(
+                model,
+                data,
+                "the mass matrix",
+                k,
+                f64::NAN,
+            ));
+        }
+        // The world placements tell a diverged state (links far out) from a massless subtree.
+        let _ = kinetree_kinematics::update_world_placements(model, &mut data.kinematics);
+        return Err(crate::aba::singular_error(model, data, &dofs));
     }
     data.factorized = true;
     Ok(())

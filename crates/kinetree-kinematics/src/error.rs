@@ -37,7 +37,8 @@ pub enum KinematicsError {
     /// [`QUATERNION_NORM_TOLERANCE`] from unit norm (or zero); within the tolerance it is
     /// normalized.
     #[error(
-        "joint '{joint}': the quaternion has norm {norm}, not 1 (accepted within {QUATERNION_NORM_TOLERANCE:e}; normalize it first)"
+        "joint '{joint}': the quaternion has norm {}, not 1 (accepted within {QUATERNION_NORM_TOLERANCE:e}; normalize it first)",
+        kinetree_model::spatial::Readable(*norm)
     )]
     NonUnitQuaternion {
         /// The joint.

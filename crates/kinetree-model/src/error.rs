@@ -1,7 +1,7 @@
 //! The model layer's error type.
 
 use core::fmt;
-use kinetree_spatial::InertiaDefect;
+use kinetree_spatial::{InertiaDefect, Readable};
 use std::path::PathBuf;
 
 /// Everything that can go wrong while loading or building a [`Model`](crate::Model).
@@ -393,7 +393,9 @@ impl fmt::Display for Issue {
             } => {
                 write!(
                     f,
-                    "joint '{joint}' has lower limit {lower} > upper limit {upper}"
+                    "joint '{joint}' has lower limit {} > upper limit {}",
+                    Readable(*lower),
+                    Readable(*upper)
                 )
             }
             Self::NonFinite { kind, name, what } => {
@@ -402,12 +404,14 @@ impl fmt::Display for Issue {
             Self::InvalidInertia { link, mass, defect } => {
                 write!(
                     f,
-                    "link '{link}' has an invalid inertia (mass {mass}): {defect}"
+                    "link '{link}' has an invalid inertia (mass {}): {defect}",
+                    Readable(*mass)
                 )
             }
             Self::MasslessInertia { link, largest } => write!(
                 f,
-                "link '{link}' has mass 0 but a rotational inertia (largest entry {largest} kg·m²): no rigid body has one without the other"
+                "link '{link}' has mass 0 but a rotational inertia (largest entry {} kg·m²): no rigid body has one without the other",
+                Readable(*largest)
             ),
             Self::UnknownMimicTarget { joint, target } => {
                 write!(f, "joint '{joint}' mimics unknown joint '{target}'")
@@ -427,7 +431,8 @@ impl fmt::Display for Issue {
             Self::InvalidRootJoint { joint, reason } => write!(f, "joint '{joint}': {reason}"),
             Self::InvalidJointDynamics { joint, what, value } => write!(
                 f,
-                "joint '{joint}' has a negative {what} ({value}); it must be zero or positive"
+                "joint '{joint}' has a negative {what} ({}); it must be zero or positive",
+                Readable(*value)
             ),
             Self::WorldPoseMismatch {
                 part,

@@ -46,12 +46,14 @@
 //! - `motion`: [`Motion`] and [`Force`]; `symmetric3`: [`Symmetric3`]; `inertia`: [`Inertia`].
 //! - The kernels the body sweeps share: `origin_inertia` ([`OriginInertia`]), `rotation_form`
 //!   ([`RotationForm`]) and [`axis`] (cross products with a coordinate axis).
+//! - `readable`: [`Readable`], numbers in messages (scientific notation when huge or tiny).
 
 pub mod axis;
 pub mod explog;
 mod inertia;
 mod motion;
 mod origin_inertia;
+mod readable;
 pub mod rotation;
 mod rotation_form;
 mod se3;
@@ -62,6 +64,7 @@ pub use glam::{DMat3, DMat4, DQuat, DVec3};
 pub use inertia::Inertia;
 pub use motion::{Force, Motion};
 pub use origin_inertia::OriginInertia;
+pub use readable::Readable;
 pub use rotation_form::RotationForm;
 pub use se3::Se3;
 pub use symmetric3::{InertiaDefect, Symmetric3};

@@ -1,6 +1,7 @@
 //! The error type of reachable-workspace sampling.
 
 use kinetree_kinematics::KinematicsError;
+use kinetree_kinematics::spatial::Readable;
 
 /// What can go wrong while sampling a reachable workspace or querying it.
 #[derive(Debug, thiserror::Error)]
@@ -24,13 +25,17 @@ pub enum ReachableError {
         limit: usize,
     },
     /// A voxel size is zero, negative, NaN or infinite.
-    #[error("voxel size {size} is not a positive finite length")]
+    #[error("voxel size {} is not a positive finite length", Readable(*size))]
     InvalidVoxelSize {
         /// The size given, in metres.
         size: f64,
     },
     /// A voxel size is so small that voxel indices of the samples overflow.
-    #[error("voxel size {size} m is too small for points {distance} m from the origin")]
+    #[error(
+        "voxel size {} m is too small for points {} m from the origin",
+        Readable(*size),
+        Readable(*distance)
+    )]
     VoxelTooSmall {
         /// The size given, in metres.
         size: f64,

@@ -8,6 +8,7 @@ use kinetree::dynamics::{
     DynamicsData, Integrator, JointTerms, LimitModel, apply_hard_stops, limited_coordinates,
     mechanical_energy, step,
 };
+use kinetree::spatial::Readable;
 use std::path::PathBuf;
 
 /// Arguments of `kinetree simulate`.
@@ -154,7 +155,10 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             } else {
                 e
             };
-            return Err(e.context(format!("step {k} (t = {:.6} s)", k as f64 * args.dt)));
+            return Err(e.context(format!(
+                "step {k} (t = {:.6} s)",
+                Readable(k as f64 * args.dt)
+            )));
         }
         limits.record(k as f64 * args.dt, &q);
         if limit_model == LimitModel::InelasticStop {

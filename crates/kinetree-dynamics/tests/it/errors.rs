@@ -408,3 +408,117 @@ fn overflow_is_a_typed_error_never_nan_in_ok() {
     let ok = rnea(&model, &mut data, &q, &v, &a).unwrap();
     assert!(ok.iter().all(|x| x.is_finite()));
 }
+
+/// base -> l1 (revolute about y, 1 kg at 0.5 m) -> l2 (revolute about y, 1 m out along x) with
+/// `mass` at `com` and rotational inertia `inertia`·I, or -> a prismatic finger along x (10 g).
+fn two_links(mass: f64, com: DVec3, inertia: f64, prismatic: bool) -> Model {
+    let mut b = ModelBuilder::new("two");
+    b.add_link(Link::new("base"));
+    let unit = Symmetric3::new(0.1, 0.0, 0.0, 0.1, 0.0, 0.1);
+    b.add_part(
+        Link::new("l1").with_mass(1.0, DVec3::new(0.5, 0.0, 0.0), unit),
+        JointSpec::new("j1", JointKind::Revolute, "base", "l1").with_axis(DVec3::Y),
+    );
+    let (kind, axis) = if prismatic {
+        (JointKind::Prismatic, DVec3::X)
+    } else {
+        (JointKind::Revolute, DVec3::Y)
+    };
+    b.add_part(
+        Link::new("l2").with_mass(
+            mass,
+            com,
+            Symmetric3::new(inertia, 0.0, 0.0, inertia, 0.0, inertia),
+        ),
+        JointSpec::new("j2", kind, "l1", "l2")
+            .with_axis(axis)
+            .with_placement(kinetree_dynamics::spatial::Se3::from_translation(DVec3::X)),
+    );
+    b.build().unwrap()
+}
+
+/// Every path that reports a singular mass matrix (ABA, the factorization and inverse, a
+/// simulation step) says what happened: an overflow, a loss of precision (links absurdly far
+/// out, masses absurdly different) or a massless subtree, never "massless" for the first two.
+#[test]
+fn overflow_and_lost_precision_are_never_called_a_massless_subtree() {
+    fn every_path(model: &Model, q: &[f64]) -> Vec<DynamicsError> {
+        let mut data = DynamicsData::new(model);
+        let (v, tau) = (vec![0.0; model.nv()], vec![0.0; model.nv()]);
+        let (mut qs, mut vs) = (q.to_vec(), v.clone());
+        vec![
+            aba(model, &mut data, q, &v, &tau).unwrap_err(),
+            factorize_mass_matrix(model, &mut data, q).unwrap_err(),
+            mass_matrix_inverse(model, &mut data, q).unwrap_err(),
+            step(
+                model,
+                &mut data,
+                Integrator::RungeKutta4,
+                &mut qs,
+                &mut vs,
+                &tau,
+                1e-3,
+            )
+            .unwrap_err(),
+        ]
+    }
+    // Mass, inertia or centre of mass at the edge of f64: an overflow, or a loss of precision
+    // that names the masses.
+    for model in [
+        two_links(1e308, DVec3::ZERO, 0.1, false),
+        two_links(1.0, DVec3::ZERO, 1e308, false),
+        two_links(1.0, DVec3::new(1e308, 0.0, 0.0), 0.1, false),
+    ] {
+        for e in every_path(&model, &[0.1, 0.2]) {
+            let message = e.to_string();
+            match e {
+                DynamicsError::Overflow { .. } => {}
+                DynamicsError::IllConditionedMassMatrix { masses, .. } => {
+                    assert_eq!(masses[1], 1e308, "{message}");
+                }
+                other => panic!("expected an overflow or a loss of precision, got {other:?}"),
+            }
+            assert!(!message.contains("massless"), "{message}");
+        }
+    }
+    // 1e300 kg on the axis of j2 (which moves only its 0.1 kg·m²) beside a 1 kg link.
+    let model = two_links(1e300, DVec3::ZERO, 0.1, false);
+    for e in every_path(&model, &[0.1, 0.2]) {
+        let message = e.to_string();
+        match e {
+            DynamicsError::IllConditionedMassMatrix { joints, masses, .. } => {
+                assert_eq!(joints, ["j2"]);
+                assert_eq!(masses[1], 1e300);
+            }
+            other => panic!("expected a loss of precision, got {other:?}"),
+        }
+        assert!(message.contains("to 1.0e300 (kg, kg·m²)"), "{message}");
+        assert!(!message.contains("massless"), "{message}");
+    }
+    // A 10 g finger slid out to 1e9 m, as in a simulation that has run away.
+    let model = two_links(0.01, DVec3::ZERO, 1e-6, true);
+    for e in every_path(&model, &[0.1, 1e9]) {
+        let message = e.to_string();
+        match e {
+            DynamicsError::IllConditionedMassMatrix { joints, reach, .. } => {
+                assert_eq!(joints, ["j2"]);
+                // The finger's joint is 1 m out along x, then 1e9 m along it.
+                assert!((reach - (1e9 + 1.0)).abs() < 1e-6, "{reach}");
+            }
+            other => panic!("expected a loss of precision, got {other:?}"),
+        }
+        assert!(message.contains("1.0e9 m from the origin"), "{message}");
+    }
+    // A zero or 1e300 quaternion is refused at the entry, naming the joint and the norm.
+    let floating = every_kind(RootJoint::Floating);
+    let mut data = DynamicsData::new(&floating);
+    let v = vec![0.0; floating.nv()];
+    for (w, norm) in [(0.0, "norm 0,"), (1e300, "norm 1e300,")] {
+        let mut q = kinetree_dynamics::kinematics::configuration::neutral_configuration(&floating);
+        q[6] = w;
+        let e = aba(&floating, &mut data, &q, &v, &v).unwrap_err();
+        assert!(e.to_string().contains(norm), "{e}");
+        let e = factorize_mass_matrix(&floating, &mut data, &q).unwrap_err();
+        assert!(e.to_string().contains(norm), "{e}");
+    }
+}
