@@ -10,6 +10,7 @@ use std::process::ExitCode;
 #[macro_use]
 mod out;
 mod cmd;
+mod interrupt;
 mod plot;
 mod table;
 
@@ -68,6 +69,11 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         // `kinetree … | head`: the reader has what it wanted.
         Err(e) if e.downcast_ref::<out::StdoutClosed>().is_some() => ExitCode::SUCCESS,
+        // Ctrl-C after the partial results were kept: say so, with the shell's SIGINT code.
+        Err(e) if e.downcast_ref::<interrupt::Interrupted>().is_some() => {
+            eprintln!("{e}");
+            ExitCode::from(interrupt::EXIT_CODE)
+        }
         Err(e) => {
             eprintln!("error: {}", message(&e));
             ExitCode::FAILURE

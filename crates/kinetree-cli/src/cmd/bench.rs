@@ -108,23 +108,81 @@ fn check_counts(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// Median ns/call of `f(i)` over `reps` repetitions of `calls` calls (after a warm-up).
-fn time(calls: usize, reps: usize, mut f: impl FnMut(usize)) -> f64 {
-    // Warm up for a whole repetition: caches, branch predictors and the clock settle.
-    for i in 0..calls.max(1) {
-        f(i);
+/// Calls `f(i)` for `i` in `0..calls`, in chunks, checking for Ctrl-C between chunks (not
+/// between calls, so the timed loop stays bare); false when interrupted.
+fn calls_until_interrupted(calls: usize, f: &mut impl FnMut(usize)) -> bool {
+    const CHUNK: usize = 4096;
+    let mut start = 0;
+    while start < calls {
+        let end = (start + CHUNK).min(calls);
+        for i in start..end {
+            f(i);
+        }
+        if crate::interrupt::requested() {
+            return false;
+        }
+        start = end;
     }
-    let mut per_call: Vec<f64> = (0..reps.max(1))
-        .map(|_| {
-            let start = Instant::now();
-            for i in 0..calls {
-                f(i);
-            }
-            start.elapsed().as_secs_f64() * 1e9 / calls.max(1) as f64
-        })
-        .collect();
+    true
+}
+
+/// Median ns/call of `f(i)` over `reps` repetitions of `calls` calls (after a warm-up); `None`
+/// when Ctrl-C stopped it.
+fn time(calls: usize, reps: usize, mut f: impl FnMut(usize)) -> Option<f64> {
+    // Warm up for a whole repetition: caches, branch predictors and the clock settle.
+    if !calls_until_interrupted(calls.max(1), &mut f) {
+        return None;
+    }
+    let mut per_call = Vec::with_capacity(reps.max(1));
+    for _ in 0..reps.max(1) {
+        let start = Instant::now();
+        if !calls_until_interrupted(calls, &mut f) {
+            return None;
+        }
+        per_call.push(start.elapsed().as_secs_f64() * 1e9 / calls.max(1) as f64);
+    }
     per_call.sort_by(f64::total_cmp);
-    per_call[per_call.len() / 2]
+    Some(per_call[per_call.len() / 2])
+}
+
+/// The timings measured so far, in order, and the progress shown on a terminal.
+struct Timings {
+    results: Vec<(&'static str, f64)>,
+    /// The algorithm Ctrl-C stopped, if any (later ones are skipped).
+    interrupted: Option<&'static str>,
+    bar: indicatif::ProgressBar,
+}
+
+impl Timings {
+    fn new(algorithms: u64) -> Self {
+        // On a terminal only (indicatif draws nothing when stderr is not one).
+        let bar = indicatif::ProgressBar::new(algorithms);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("timing {msg:<20} [{bar:20}] {pos}/{len}")
+                .map_or_else(
+                    |_| indicatif::ProgressStyle::default_bar(),
+                    |s| s.progress_chars("=> "),
+                ),
+        );
+        Self {
+            results: Vec::new(),
+            interrupted: None,
+            bar,
+        }
+    }
+
+    /// Times `f` as `name` unless an earlier timing was interrupted.
+    fn time(&mut self, name: &'static str, calls: usize, reps: usize, f: impl FnMut(usize)) {
+        if self.interrupted.is_some() {
+            return;
+        }
+        self.bar.set_message(name);
+        match time(calls, reps, f) {
+            Some(ns) => self.results.push((name, ns)),
+            None => self.interrupted = Some(name),
+        }
+        self.bar.inc(1);
+    }
 }
 
 /// The link farthest from the root (most joints on its path): the frame whose Jacobian is timed.
@@ -163,106 +221,73 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let frame = FrameId::Link(deepest_link(&model));
     let (calls, reps) = (args.calls, args.repetitions);
     let q = |i: usize| &states[i % states.len()];
-    let mut results: Vec<(&str, f64)> = Vec::new();
-    results.push((
-        "fk",
-        time(calls, reps, |i| {
-            let _ = forward_kinematics(&model, &mut data, black_box(q(i)));
-            black_box(&data);
-        }),
-    ));
-    results.push((
-        "fk_frames",
-        time(calls, reps, |i| {
-            let _ = forward_kinematics(&model, &mut data, black_box(q(i)));
-            let _ = update_frame_placements(&model, &mut data);
-            black_box(&data);
-        }),
-    ));
-    results.push((
-        "frame_jacobian",
-        time(calls, reps, |i| {
-            let _ = compute_frame_jacobian(
-                &model,
-                &mut data,
-                black_box(q(i)),
-                frame,
-                ReferenceFrame::LocalWorldAligned,
-                &mut jac,
-            );
-            black_box(&jac);
-        }),
-    ));
-    results.push((
-        "joint_jacobians",
-        time(calls, reps, |i| {
-            let _ = compute_joint_jacobians(&model, &mut data, black_box(q(i)));
-            black_box(&data);
-        }),
-    ));
+    crate::interrupt::watch();
+    let mut timings = Timings::new(11);
+    timings.time("fk", calls, reps, |i| {
+        let _ = forward_kinematics(&model, &mut data, black_box(q(i)));
+        black_box(&data);
+    });
+    timings.time("fk_frames", calls, reps, |i| {
+        let _ = forward_kinematics(&model, &mut data, black_box(q(i)));
+        let _ = update_frame_placements(&model, &mut data);
+        black_box(&data);
+    });
+    timings.time("frame_jacobian", calls, reps, |i| {
+        let _ = compute_frame_jacobian(
+            &model,
+            &mut data,
+            black_box(q(i)),
+            frame,
+            ReferenceFrame::LocalWorldAligned,
+            &mut jac,
+        );
+        black_box(&jac);
+    });
+    timings.time("joint_jacobians", calls, reps, |i| {
+        let _ = compute_joint_jacobians(&model, &mut data, black_box(q(i)));
+        black_box(&data);
+    });
 
     let mut dd = DynamicsData::new(&model);
     let x = |i: usize| &vectors[i % vectors.len()];
     let y = |i: usize| &vectors[(i + 500) % vectors.len()];
-    results.push((
-        "rnea",
-        time(calls, reps, |i| {
-            let _ = black_box(
-                rnea(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|t| t.first().copied()),
-            );
-        }),
-    ));
-    results.push((
-        "nle",
-        time(calls, reps, |i| {
-            let _ = black_box(
-                nonlinear_effects(&model, &mut dd, black_box(q(i)), x(i))
-                    .map(|t| t.first().copied()),
-            );
-        }),
-    ));
-    results.push((
-        "crba",
-        time(calls, reps, |i| {
-            let _ = black_box(crba(&model, &mut dd, black_box(q(i))).map(|m| m.first().copied()));
-        }),
-    ));
-    results.push((
-        "aba",
-        time(calls, reps, |i| {
-            let _ = black_box(
-                aba(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|a| a.first().copied()),
-            );
-        }),
-    ));
-    results.push((
-        "minv",
-        time(calls, reps, |i| {
-            let _ = black_box(
-                mass_matrix_inverse(&model, &mut dd, black_box(q(i))).map(|m| m.first().copied()),
-            );
-        }),
-    ));
+    timings.time("rnea", calls, reps, |i| {
+        let _ = black_box(
+            rnea(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|t| t.first().copied()),
+        );
+    });
+    timings.time("nle", calls, reps, |i| {
+        let _ = black_box(
+            nonlinear_effects(&model, &mut dd, black_box(q(i)), x(i)).map(|t| t.first().copied()),
+        );
+    });
+    timings.time("crba", calls, reps, |i| {
+        let _ = black_box(crba(&model, &mut dd, black_box(q(i))).map(|m| m.first().copied()));
+    });
+    timings.time("aba", calls, reps, |i| {
+        let _ = black_box(
+            aba(&model, &mut dd, black_box(q(i)), x(i), y(i)).map(|a| a.first().copied()),
+        );
+    });
+    timings.time("minv", calls, reps, |i| {
+        let _ = black_box(
+            mass_matrix_inverse(&model, &mut dd, black_box(q(i))).map(|m| m.first().copied()),
+        );
+    });
 
     let mut derivatives = DerivativesData::new(&model);
-    results.push((
-        "rnea_derivatives",
-        time(calls, reps, |i| {
-            let _ = black_box(
-                rnea_derivatives(&model, &mut derivatives, black_box(q(i)), x(i), y(i))
-                    .map(|d| d.dtau_dq[0]),
-            );
-        }),
-    ));
-    results.push((
-        "aba_derivatives",
-        time(calls, reps, |i| {
-            let _ = black_box(
-                aba_derivatives(&model, &mut derivatives, black_box(q(i)), x(i), y(i))
-                    .map(|d| d.dddq_dq[0]),
-            );
-        }),
-    ));
+    timings.time("rnea_derivatives", calls, reps, |i| {
+        let _ = black_box(
+            rnea_derivatives(&model, &mut derivatives, black_box(q(i)), x(i), y(i))
+                .map(|d| d.dtau_dq[0]),
+        );
+    });
+    timings.time("aba_derivatives", calls, reps, |i| {
+        let _ = black_box(
+            aba_derivatives(&model, &mut derivatives, black_box(q(i)), x(i), y(i))
+                .map(|d| d.dddq_dq[0]),
+        );
+    });
 
     let options = kinetree::collision::CollisionOptions::default()
         .with_model_file(&args.model, &args.mesh_paths)
@@ -271,24 +296,21 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         && !cmodel.pairs().is_empty()
     {
         let mut cd = kinetree::collision::CollisionData::new(&cmodel);
-        results.push((
-            "collision_any",
-            time((calls / 10).max(1), reps, |i| {
-                let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
-                let _ = black_box(kinetree::collision::any_collision(&cmodel, &mut cd));
-            }),
-        ));
-        results.push((
-            "collision_distances",
-            time((calls / 10).max(1), reps, |i| {
-                let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
-                let _ = black_box(
-                    kinetree::collision::compute_distances(&cmodel, &mut cd).map(|d| d.len()),
-                );
-            }),
-        ));
+        timings.bar.inc_length(2);
+        timings.time("collision_any", (calls / 10).max(1), reps, |i| {
+            let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
+            let _ = black_box(kinetree::collision::any_collision(&cmodel, &mut cd));
+        });
+        timings.time("collision_distances", (calls / 10).max(1), reps, |i| {
+            let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
+            let _ = black_box(
+                kinetree::collision::compute_distances(&cmodel, &mut cd).map(|d| d.len()),
+            );
+        });
     }
 
+    timings.bar.finish_and_clear();
+    let results = timings.results;
     if args.json {
         let map: serde_json::Map<String, serde_json::Value> = results
             .iter()
@@ -316,6 +338,15 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         for (name, ns) in &results {
             outln!("  {name:<18} {ns:>10.1}")?;
         }
+    }
+    if let Some(name) = timings.interrupted {
+        return Err(crate::interrupt::Interrupted {
+            what: format!(
+                "printed the {} timing(s) finished before '{name}'; '{name}' and the rest were not measured",
+                results.len()
+            ),
+        }
+        .into());
     }
     Ok(())
 }

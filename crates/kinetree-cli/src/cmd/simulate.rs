@@ -136,9 +136,24 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         ),
     );
     let tick = (steps / 200).max(1);
+    // Ctrl-C stops after the current step; what was simulated is still reported and written.
+    crate::interrupt::watch();
+    let mut done = steps;
     for k in 1..=steps {
         if k % tick == 0 {
             bar.set_position(k as u64);
+        }
+        if crate::interrupt::requested() {
+            done = k - 1;
+            let t = done as f64 * args.dt;
+            if samples.last().is_some_and(|(last, _)| *last < t) {
+                samples.push((t, q.clone()));
+            }
+            if energy.last().is_some_and(|(last, _)| *last < t) {
+                record(t, &q, &mut curves);
+                energy.push((t, mechanical_energy(&model, &mut data, &q, &v)?));
+            }
+            break;
         }
         if let Err(e) = step(&model, &mut data, integrator, &mut q, &mut v, &tau, args.dt) {
             let largest = |x: &[f64]| x.iter().fold(0.0f64, |m, y| m.max(y.abs()));
@@ -179,12 +194,12 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let elapsed = start.elapsed();
     let e1 = mechanical_energy(&model, &mut data, &q, &v)?;
     outln!(
-        "{}: {steps} steps of {} s ({:?}) in {:.3} s wall ({:.2} µs/step)",
+        "{}: {done} steps of {} s ({:?}) in {:.3} s wall ({:.2} µs/step)",
         model.name(),
         args.dt,
         integrator,
         elapsed.as_secs_f64(),
-        elapsed.as_secs_f64() * 1e6 / steps.max(1) as f64
+        elapsed.as_secs_f64() * 1e6 / done.max(1) as f64
     )?;
     outln!(
         "{}",
@@ -266,6 +281,20 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         });
         std::fs::write(path, svg).with_context(|| format!("cannot write {}", path.display()))?;
         outln!("plot written to {}", path.display())?;
+    }
+    if done < steps {
+        return Err(crate::interrupt::Interrupted {
+            what: format!(
+                "stopped after {done} of {steps} steps (t = {} s); the report{} cover those steps",
+                Readable(done as f64 * args.dt),
+                if args.out.is_some() || args.plot.is_some() {
+                    " and the files written"
+                } else {
+                    ""
+                }
+            ),
+        }
+        .into());
     }
     Ok(())
 }
