@@ -213,3 +213,41 @@ fn has_null_number(v: &serde_json::Value) -> bool {
         _ => false,
     }
 }
+
+/// yapCAD chain JSON text → model, the joint values stored in the file and the exported world
+/// poses → forward kinematics at the stored values, then the algorithms. Returns whether the
+/// text loaded (so the stable tests can check that the generated inputs reach the algorithms).
+pub fn yapcad(bytes: &[u8]) -> bool {
+    let Ok(text) = core::str::from_utf8(bytes) else {
+        return false;
+    };
+    let Ok(chain) = Model::from_yapcad_str(text) else {
+        return false;
+    };
+    let model = &chain.model;
+    assert_eq!(
+        chain.q.len(),
+        model.nq(),
+        "stored values of the wrong length"
+    );
+    assert!(
+        chain.q.iter().all(|x| x.is_finite()),
+        "non-finite stored joint value in an Ok: {:?}",
+        chain.q
+    );
+    assert!(
+        chain.world_poses.iter().flatten().all(|x| x.is_finite()),
+        "non-finite exported pose in an Ok"
+    );
+    if model.bodies().len() <= MAX_BODIES {
+        let mut kd = KinematicsData::new(model);
+        if forward_kinematics(model, &mut kd, &chain.q).is_ok() {
+            assert!(
+                kd.world_from_link().iter().all(|x| x.is_finite()),
+                "non-finite placement at the stored values in an Ok"
+            );
+        }
+    }
+    algorithms(model, bytes);
+    true
+}

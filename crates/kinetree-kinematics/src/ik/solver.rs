@@ -40,6 +40,10 @@ use std::time::Instant;
 use super::scratch::{DofBound, Eval, TargetState, Workspace};
 use super::step::{MU_MAX, MU_MIN, clamp_moving, step, within_limits};
 
+/// The largest target coordinate (m) or weight the solver takes: squared weighted residuals
+/// of larger values can overflow.
+const MAX_TARGET_MAGNITUDE: f64 = 1e50;
+
 /// A boxed iterate observer (see [`IkSolver::set_observer`]).
 type Observer = Box<dyn FnMut(&IkIterate<'_>) + Send>;
 
@@ -280,7 +284,8 @@ impl IkSolver {
     ///   weight is not finite.
     /// - [`KinematicsError::FrameOutOfRange`]: a target's frame is not in `model`.
     /// - [`KinematicsError::InvalidTarget`]: no target, a target rotation that is not a rotation
-    ///   matrix, a negative weight, or every weight zero.
+    ///   matrix, a negative weight, every weight zero, or a position coordinate or weight above
+    ///   1e50 (its squared residual would overflow).
     /// - [`KinematicsError::DataMismatch`]: `model` or `data` is not the solver's model.
     pub fn solve_targets(
         &mut self,
@@ -538,6 +543,20 @@ impl IkSolver {
                 return Err(KinematicsError::InvalidTarget {
                     index,
                     reason: "a weight is negative",
+                });
+            }
+            // Squared weighted residuals of larger values overflow, so the errors reported
+            // would be infinite or NaN.
+            if t.pose.translation.abs().max_element() > MAX_TARGET_MAGNITUDE {
+                return Err(KinematicsError::InvalidTarget {
+                    index,
+                    reason: "the position is farther than 1e50 m from the origin",
+                });
+            }
+            if t.weights.iter().any(|w| *w > MAX_TARGET_MAGNITUDE) {
+                return Err(KinematicsError::InvalidTarget {
+                    index,
+                    reason: "a weight is above 1e50",
                 });
             }
             if !is_rotation(&t.pose.rotation, 1e-6) {

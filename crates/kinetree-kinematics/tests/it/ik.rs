@@ -522,6 +522,30 @@ fn bad_inputs_are_typed_errors() {
         solver.solve_targets(&model, &mut data, &[], &q0),
         Err(KinematicsError::InvalidTarget { .. })
     ));
+    // Finite but absurd: squared residuals would overflow and the report's errors be inf or
+    // NaN (the viewer's fuzzing found a position-only target at (1e308, -1e308, 0)).
+    for far in [
+        IkTarget::position(ee, DVec3::new(1e308, -1e308, 5e-324)),
+        IkTarget::position(ee, DVec3::new(0.0, 0.0, 1e51)),
+        good.with_axis_weights([1e60, 1.0, 1.0, 1.0, 1.0, 1.0]),
+    ] {
+        let e = solver.solve(&model, &mut data, &far, &q0).unwrap_err();
+        assert!(
+            matches!(e, KinematicsError::InvalidTarget { index: 0, .. }),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("1e50"), "{e}");
+    }
+    // Large but workable: a finite report.
+    let report = solver
+        .solve(
+            &model,
+            &mut data,
+            &IkTarget::position(ee, DVec3::splat(1e40)),
+            &q0,
+        )
+        .unwrap();
+    assert!(report.position_error.is_finite() && report.orientation_error.is_finite());
     assert!(matches!(
         solver.solve_targets(&model, &mut data, &[good; 5], &q0),
         Err(KinematicsError::DimensionMismatch { .. })
