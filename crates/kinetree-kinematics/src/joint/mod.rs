@@ -24,7 +24,7 @@
 
 mod lie_group;
 mod model;
-mod transform;
+pub(crate) mod transform;
 
 pub use lie_group::{
     difference_jacobians, difference_joint, integrate_jacobians, integrate_joint, wrap_angle,

@@ -70,7 +70,7 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 /// The placement rotation `R` times a rotation by `(s, c)` about coordinate axis `k`: columns `i`
 /// and `j` of `R·R_k(θ)` are `c·r_i + s·r_j` and `c·r_j - s·r_i`.
 #[inline(always)]
-fn rotate_about_axis(r: &DMat3, k: usize, s: f64, c: f64) -> DMat3 {
+pub(crate) fn rotate_about_axis(r: &DMat3, k: usize, s: f64, c: f64) -> DMat3 {
     match k {
         0 => DMat3::from_cols(
             r.x_axis,
@@ -87,6 +87,17 @@ fn rotate_about_axis(r: &DMat3, k: usize, s: f64, c: f64) -> DMat3 {
             r.y_axis * c - r.x_axis * s,
             r.z_axis,
         ),
+    }
+}
+
+/// The rotation by `(s, c)` about coordinate axis `k`, built entry by entry (what
+/// [`rotate_about_axis`] gives for the identity, without its multiplications).
+#[inline(always)]
+pub(crate) fn axis_rotation(k: usize, s: f64, c: f64) -> DMat3 {
+    match k {
+        0 => DMat3::from_cols(DVec3::X, DVec3::new(0.0, c, s), DVec3::new(0.0, -s, c)),
+        1 => DMat3::from_cols(DVec3::new(c, 0.0, -s), DVec3::Y, DVec3::new(s, 0.0, c)),
+        _ => DMat3::from_cols(DVec3::new(c, s, 0.0), DVec3::new(-s, c, 0.0), DVec3::Z),
     }
 }
 
