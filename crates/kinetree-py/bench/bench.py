@@ -96,6 +96,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pin-site", help="site-packages of a virtualenv with pin installed")
     parser.add_argument("--robots", default=",".join(ROBOTS))
+    parser.add_argument("--rounds", type=int, default=3,
+                        help="interleaved rounds per timing (more rounds: a steadier minimum on a busy machine)")
     args = parser.parse_args()
     if args.pin_site:
         site.addsitedir(args.pin_site)
@@ -152,8 +154,8 @@ def main():
         }
         for name, (one, batch, pone, pbatch) in calls.items():
             n = N_DERIVATIVES if "derivatives" in name else N
-            t1, p1 = interleaved(one, pone)
-            tb, pb = interleaved(batch, pbatch, rounds=2, repeat=2, number=1)
+            t1, p1 = interleaved(one, pone, rounds=args.rounds)
+            tb, pb = interleaved(batch, pbatch, rounds=args.rounds, repeat=3, number=1)
             rows.append((robot, name, t1, p1, tb / n, (pb / n) if pb else None))
             print(rows[-1][0], rows[-1][1], fmt(t1), fmt(p1), fmt(tb / n), fmt(pb / n if pb else None), flush=True)
 
