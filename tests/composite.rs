@@ -4,13 +4,17 @@
 
 use glam::DVec3;
 use kinetree::dynamics::{DynamicsData, aba, crba, rnea};
+use kinetree::kinematics::configuration::{Space, from_named};
 use kinetree::kinematics::ik::{IkParams, IkSolver, IkTarget};
 use kinetree::kinematics::{
     FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, configuration,
     forward_kinematics,
 };
 use kinetree::model::composite::{Axis, CompositeJointSpec, Factor};
-use kinetree::model::{JointLimits, JsonOptions, Link, Model, ModelBuilder, RootJoint};
+use kinetree::model::{
+    FrameSpec, Issue, ItemKind, JointKind, JointLimits, JointSpec, JsonOptions, Link, Model,
+    ModelBuilder, RootJoint, Units,
+};
 use kinetree::spatial::{Motion, Se3, Symmetric3};
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
@@ -84,7 +88,7 @@ fn the_state_variables_are_the_joints_coordinates() {
     let m = leg();
     // hip: ry, rz; knee: a quaternion and ty.
     assert_eq!((m.nq(), m.nv()), (2 + 4 + 1, 2 + 3 + 1));
-    for name in ["hip.ry", "hip.rz", "knee.ball", "knee.ty"] {
+    for name in ["hip.ry", "hip.rz", "knee.quat", "knee.ty"] {
         assert!(m.joint_index(name).is_some(), "no {name}");
     }
     let ry = m.joint(m.joint_index("hip.ry").unwrap());
@@ -240,4 +244,369 @@ fn a_composite_of_constants_only_is_a_fixed_joint() {
     ));
     let e = bad.build().unwrap_err().to_string();
     assert!(e.contains("nowhere"), "{e}");
+}
+
+/// The leg of [`leg`] as a model file, in `units` ("m"/"rad" or "mm"/"deg").
+fn leg_json(mm_deg: bool) -> String {
+    let (l, a) = if mm_deg {
+        (1000.0, 180.0 / std::f64::consts::PI)
+    } else {
+        (1.0, 1.0)
+    };
+    let body = |name: &str| {
+        format!(
+            r#"{{"name": "{name}", "inertial": {{"origin": {{"xyz": [{}, {}, {}]}}, "mass": 1.5,
+                "inertia": {{"ixx": {}, "ixy": {}, "iyy": {}, "iyz": {}, "izz": {}}}}}}}"#,
+            0.05 * l,
+            0.1 * l,
+            -0.2 * l,
+            0.03 * l * l,
+            0.001 * l * l,
+            0.04 * l * l,
+            0.002 * l * l,
+            0.02 * l * l
+        )
+    };
+    format!(
+        r#"{{"name": "leg", "units": {{"length": "{}", "angle": "{}"}},
+  "links": [{}, {}, {}],
+  "joints": [
+    {{"name": "hip", "type": "composite", "parent": "pelvis", "child": "thigh",
+      "origin": {{"xyz": [0, {}, 0]}},
+      "factors": [{{"param": "tx", "value": {}}},
+                  {{"param": "ry", "limits": {{"lower": {}, "upper": {}}}}},
+                  {{"param": "rz", "limits": {{"lower": {}, "upper": {}}}}},
+                  {{"param": "tz", "value": {}}}]}},
+    {{"name": "knee", "type": "composite", "parent": "thigh", "child": "shank",
+      "factors": [{{"param": "quat"}}, {{"param": "tz", "value": {}}}, {{"param": "ty"}}]}}
+  ]}}"#,
+        if mm_deg { "mm" } else { "m" },
+        if mm_deg { "deg" } else { "rad" },
+        body("pelvis"),
+        body("thigh"),
+        body("shank"),
+        0.2 * l,
+        0.1 * l,
+        -2.0 * a,
+        2.0 * a,
+        -1.5 * a,
+        1.5 * a,
+        -0.05 * l,
+        0.3 * l,
+    )
+}
+
+/// The same leg chained by hand from elementary joints and dummy links (what a user had to
+/// write before composite joints).
+fn leg_by_hand() -> Model {
+    let mut b = ModelBuilder::new("leg");
+    for name in ["pelvis", "thigh", "shank"] {
+        b.add_link(body(name));
+    }
+    for name in ["d1", "d2", "d3"] {
+        b.add_link(Link::new(name));
+    }
+    let t = |x: f64, y: f64, z: f64| Se3::from_translation(DVec3::new(x, y, z));
+    b.add_joint(
+        JointSpec::new("a", JointKind::Revolute, "pelvis", "d1")
+            .with_placement(t(0.0, 0.2, 0.0) * t(0.1, 0.0, 0.0))
+            .with_axis(DVec3::Y)
+            .with_limits(JointLimits::position(-2.0, 2.0)),
+    );
+    b.add_joint(
+        JointSpec::new("b", JointKind::Revolute, "d1", "d2")
+            .with_axis(DVec3::Z)
+            .with_limits(JointLimits::position(-1.5, 1.5)),
+    );
+    b.add_joint(
+        JointSpec::new("c", JointKind::Fixed, "d2", "thigh").with_placement(t(0.0, 0.0, -0.05)),
+    );
+    b.add_joint(JointSpec::new("d", JointKind::Spherical, "thigh", "d3"));
+    b.add_joint(
+        JointSpec::new("e", JointKind::Prismatic, "d3", "shank")
+            .with_placement(t(0.0, 0.0, 0.3))
+            .with_axis(DVec3::Y),
+    );
+    b.build().unwrap()
+}
+
+#[test]
+fn a_json_composite_joint_is_one_joint_named_as_written() {
+    let m = Model::from_json_str(&leg_json(false), None::<RootJoint>).unwrap();
+    let names: Vec<(&str, &str, usize, usize)> = m
+        .moving_user_joints()
+        .map(|u| {
+            let q = m.user_joint_q_range(u);
+            let v = m.user_joint_v_range(u);
+            (
+                m.user_joints()[u].name.as_str(),
+                m.user_joint_type(u),
+                q.len(),
+                v.len(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        names,
+        [("hip", "composite", 2, 2), ("knee", "composite", 5, 4)]
+    );
+    assert_eq!(
+        m.user_joint_q_range(m.user_joint_index("knee").unwrap()),
+        2..7
+    );
+    // The pieces are not user joints; their links are virtual.
+    assert!(m.user_joint_index("hip.ry").is_none());
+    let virtual_links: Vec<&str> = (0..m.links().len())
+        .filter(|&l| m.is_virtual_link(l))
+        .map(|l| m.link(l).name.as_str())
+        .collect();
+    assert_eq!(virtual_links, ["hip#1", "hip#2", "knee#1"]);
+    // The printed tree shows the composite joints, not their pieces.
+    let tree = m.to_string();
+    assert!(
+        tree.contains("thigh <- hip (composite: tx=0.1 ry rz tz=-0.05)"),
+        "{tree}"
+    );
+    assert!(!tree.contains("hip#1"), "{tree}");
+    // A named state addresses it by its name, with its whole block.
+    let q = from_named(
+        &m,
+        Space::Configuration,
+        [
+            ("hip", vec![0.3, -0.2]),
+            ("knee", vec![0.0, 0.0, 0.0, 1.0, 0.25]),
+        ],
+        true,
+    )
+    .unwrap();
+    assert_eq!(q, [0.3, -0.2, 0.0, 0.0, 0.0, 1.0, 0.25]);
+    let e = from_named(&m, Space::Configuration, [("hip", vec![0.3])], false).unwrap_err();
+    assert!(
+        e.to_string().contains("'hip'") && e.to_string().contains("composite joint takes 2"),
+        "{e}"
+    );
+    let e = from_named(&m, Space::Configuration, [("hip", vec![0.3, 0.1])], true).unwrap_err();
+    assert!(e.to_string().contains("'knee'"), "{e}");
+    // The limits of its variables, in SI.
+    let spec = &m.composites()[0].spec;
+    assert_eq!(
+        spec.limits,
+        [
+            JointLimits::position(-2.0, 2.0),
+            JointLimits::position(-1.5, 1.5)
+        ]
+    );
+    // The same file in millimetres and degrees is the same model.
+    let mm = Model::from_json_str(&leg_json(true), None::<RootJoint>).unwrap();
+    assert_eq!(m.first_difference(&mm, 1e-12), None);
+}
+
+#[test]
+fn a_composite_joint_moves_as_the_elementary_chain_by_hand() {
+    let m = Model::from_json_str(&leg_json(false), None::<RootJoint>).unwrap();
+    let hand = leg_by_hand();
+    assert_eq!((m.nq(), m.nv()), (hand.nq(), hand.nv()));
+    let (mut dm, mut dh) = (DynamicsData::new(&m), DynamicsData::new(&hand));
+    let (mut km, mut kh) = (KinematicsData::new(&m), KinematicsData::new(&hand));
+    let (mut jm, mut jh) = (vec![Motion::ZERO; m.nv()], vec![Motion::ZERO; m.nv()]);
+    for seed in 0..10 {
+        let q = random_q(&hand, seed);
+        let v: Vec<f64> = (0..m.nv())
+            .map(|i| 0.3 - 0.17 * i as f64 + 0.01 * seed as f64)
+            .collect();
+        let a: Vec<f64> = (0..m.nv()).map(|i| 0.5 * i as f64 - 1.0).collect();
+        for link in ["pelvis", "thigh", "shank"] {
+            let (fm, fh) = (
+                FrameId::find(&m, link).unwrap(),
+                FrameId::find(&hand, link).unwrap(),
+            );
+            forward_kinematics(&m, &mut km, &q).unwrap();
+            forward_kinematics(&hand, &mut kh, &q).unwrap();
+            let (pm, ph) = (*km.world_from(fm).unwrap(), *kh.world_from(fh).unwrap());
+            assert!((pm.translation - ph.translation).length() < 1e-14, "{link}");
+            assert!(pm.rotation.abs_diff_eq(ph.rotation, 1e-14), "{link}");
+            for rf in [ReferenceFrame::World, ReferenceFrame::Local] {
+                compute_frame_jacobian(&m, &mut km, &q, fm, rf, &mut jm).unwrap();
+                compute_frame_jacobian(&hand, &mut kh, &q, fh, rf, &mut jh).unwrap();
+                for (x, y) in jm.iter().zip(&jh) {
+                    assert!((x.linear - y.linear).length() < 1e-13, "{link} {rf:?}");
+                    assert!((x.angular - y.angular).length() < 1e-13, "{link} {rf:?}");
+                }
+            }
+        }
+        let tm = rnea(&m, &mut dm, &q, &v, &a).unwrap().to_vec();
+        let th = rnea(&hand, &mut dh, &q, &v, &a).unwrap().to_vec();
+        for (x, y) in tm.iter().zip(&th) {
+            assert!((x - y).abs() < 1e-12 * (1.0 + y.abs()), "{tm:?} vs {th:?}");
+        }
+    }
+}
+
+#[test]
+fn a_composite_joint_round_trips_through_json_as_one_joint() {
+    let m = Model::from_json_str(&leg_json(false), None::<RootJoint>).unwrap();
+    let q = [0.3, -0.2, 0.0, 0.6, 0.0, 0.8, 0.25];
+    for units in [Units::SI, Units::MM_DEG] {
+        let opts = JsonOptions {
+            units,
+            positions: Some(&q),
+            ..JsonOptions::default()
+        };
+        let json = m.to_json_string(&opts).unwrap();
+        let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let joints = doc["joints"].as_array().unwrap();
+        assert_eq!(joints.len(), 2, "{json}");
+        assert_eq!(joints[0]["name"], "hip");
+        assert_eq!(joints[0]["type"], "composite");
+        assert_eq!(joints[0]["factors"][1]["param"], "ry");
+        let links: Vec<&str> = doc["links"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| l["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(links, ["pelvis", "thigh", "shank"]);
+        let again = Model::from_json_str(&json, None::<RootJoint>).unwrap();
+        assert_eq!(m.first_difference(&again, 1e-12), None, "{json}");
+        let back = kinetree::model::state::positions_from_json(&again, &json).unwrap();
+        for (x, y) in back.iter().zip(&q) {
+            assert!((x - y).abs() < 1e-12, "{back:?}");
+        }
+    }
+    // A constant quaternion and a parent frame survive too.
+    let mut b = ModelBuilder::new("w");
+    b.add_link(Link::new("a")).add_link(body("b"));
+    b.add_frame(FrameSpec::new(
+        "mount",
+        "a",
+        Se3::from_translation(DVec3::X),
+    ));
+    let mut spec = CompositeJointSpec::new(
+        "w",
+        "a",
+        "b",
+        [
+            Factor::Rotation(glam::DQuat::from_xyzw(0.0, 0.0, 2.0, 2.0)),
+            Factor::Translate(Axis::Z, None),
+        ],
+    );
+    spec.parent_frame = Some("mount".into());
+    b.add_composite(spec);
+    let w = b.build().unwrap();
+    let json = w.to_json_string(&JsonOptions::default()).unwrap();
+    let again = Model::from_json_str(&json, None::<RootJoint>).unwrap();
+    assert_eq!(w.first_difference(&again, 1e-12), None, "{json}");
+    let mut data = KinematicsData::new(&again);
+    forward_kinematics(&again, &mut data, &[0.5]).unwrap();
+    let p = data
+        .world_from(FrameId::find(&again, "b").unwrap())
+        .unwrap();
+    assert!(
+        (p.translation - DVec3::new(1.0, 0.0, 0.5)).length() < 1e-15,
+        "{p:?}"
+    );
+    assert!((p.rotation * DVec3::X - DVec3::Y).length() < 1e-15);
+}
+
+#[test]
+fn bad_composite_specs_are_errors_naming_the_joint() {
+    let cases = [
+        (r#"{"param": "rw"}"#, "unknown parameter"),
+        (
+            r#"{"param": "ry"}, {"param": "tx"}, {"param": "ry"}"#,
+            "'ry' is given twice",
+        ),
+        (
+            r#"{"param": "quat"}, {"param": "quat"}"#,
+            "'quat' is given twice",
+        ),
+        (
+            r#"{"param": "quat", "value": [0, 0, 0, 0]}"#,
+            "zero or not finite",
+        ),
+        (r#"{"param": "quat", "value": [0, 0, 1]}"#, "[x, y, z, w]"),
+        (r#"{"param": "tx", "value": [1, 2]}"#, "is a number"),
+        (
+            r#"{"param": "quat", "limits": {"lower": 0}}"#,
+            "has `limits`",
+        ),
+    ];
+    for (factors, want) in cases {
+        let text = format!(
+            r#"{{"links": [{{"name": "a"}}, {{"name": "b"}}], "joints": [{{"name": "hip",
+                "type": "composite", "parent": "a", "child": "b", "factors": [{factors}]}}]}}"#
+        );
+        let e = Model::from_json_str(&text, None::<RootJoint>)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("'hip'") && e.contains(want), "{factors}: {e}");
+    }
+    // A composite without factors, an elementary joint with factors, a composite with an axis.
+    for (joint, want) in [
+        (r#""type": "composite""#, "needs `factors`"),
+        (
+            r#""type": "revolute", "factors": []"#,
+            "only a composite joint has `factors`",
+        ),
+        (
+            r#""type": "composite", "axis": [1, 0, 0], "factors": []"#,
+            "no `axis`",
+        ),
+        (r#""type": "hinge""#, "expected one of"),
+    ] {
+        let text = format!(
+            r#"{{"links": [{{"name": "a"}}, {{"name": "b"}}], "joints": [{{"name": "hip",
+                {joint}, "parent": "a", "child": "b"}}]}}"#
+        );
+        let e = Model::from_json_str(&text, None::<RootJoint>)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(want), "{joint}: {e}");
+    }
+    // A joint hung inside a composite, and a name used twice.
+    let mut b = ModelBuilder::new("m");
+    b.add_link(Link::new("a"))
+        .add_link(Link::new("b"))
+        .add_link(Link::new("c"));
+    b.add_composite(CompositeJointSpec::new(
+        "hip",
+        "a",
+        "b",
+        [Factor::Rotate(Axis::X, None), Factor::Rotate(Axis::Y, None)],
+    ));
+    b.add_joint(JointSpec::new("hip", JointKind::Revolute, "hip#1", "c"));
+    let issues = b.validate();
+    let text: Vec<String> = issues.iter().map(ToString::to_string).collect();
+    assert!(
+        text.iter()
+            .any(|t| t.contains("'hip'") && t.contains("virtual link")),
+        "{text:?}"
+    );
+    assert!(
+        issues.contains(&Issue::DuplicateName {
+            kind: ItemKind::Joint,
+            name: "hip".into()
+        }),
+        "{text:?}"
+    );
+}
+
+#[test]
+fn urdf_export_writes_the_expansion_with_the_same_motion() {
+    let m = Model::from_json_str(&leg_json(false), None::<RootJoint>).unwrap();
+    let urdf = m.to_urdf_string().unwrap();
+    assert!(urdf.contains("hip#1") && urdf.contains("hip.ry"), "{urdf}");
+    let back = Model::from_urdf_str(&urdf, RootJoint::Fixed).unwrap();
+    assert_eq!((back.nq(), back.nv()), (m.nq(), m.nv()));
+    let q = random_q(&m, 5);
+    let (mut d0, mut d1) = (KinematicsData::new(&m), KinematicsData::new(&back));
+    forward_kinematics(&m, &mut d0, &q).unwrap();
+    forward_kinematics(&back, &mut d1, &q).unwrap();
+    let (a, b) = (
+        d0.world_from(FrameId::find(&m, "shank").unwrap()).unwrap(),
+        d1.world_from(FrameId::find(&back, "shank").unwrap())
+            .unwrap(),
+    );
+    assert!((a.translation - b.translation).length() < 1e-12);
+    assert!(a.rotation.abs_diff_eq(b.rotation, 1e-12));
 }

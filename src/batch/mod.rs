@@ -112,16 +112,17 @@ pub struct BatchOptions {
     pub collision: Option<crate::collision::CollisionOptions>,
 }
 
-/// The model's name, sizes and every moving joint's blocks.
+/// The model's name, sizes and every moving joint's blocks (a composite joint once, as
+/// `"type": "composite"`, with its whole blocks).
 #[must_use]
 pub fn model_summary(model: &Model) -> ModelSummary {
     let joints = model
-        .moving_joints()
+        .moving_user_joints()
         .map(|j| {
-            let (rq, rv) = (model.joint_q_range(j), model.joint_v_range(j));
+            let (rq, rv) = (model.user_joint_q_range(j), model.user_joint_v_range(j));
             JointSummary {
-                name: model.joint(j).name.clone(),
-                kind: model.joint(j).kind.as_str(),
+                name: model.user_joints()[j].name.clone(),
+                kind: model.user_joint_type(j),
                 idx_q: rq.start,
                 idx_v: rv.start,
                 nq: rq.len(),
@@ -251,7 +252,11 @@ pub fn evaluate(
         let input = resolve_sample(model, sample, options.strict).map_err(in_sample)?;
         compute_joint_jacobians(model, &mut data, &input.q)?;
         let mut link_poses = BTreeMap::new();
+        // A composite joint's virtual links are internal: users see its parent and child.
         for (l, link) in model.links().iter().enumerate() {
+            if model.is_virtual_link(l) {
+                continue;
+            }
             let p = data.world_from(FrameId::Link(l))?;
             link_poses.insert(
                 link.name.clone(),
@@ -331,10 +336,10 @@ pub fn evaluate(
 #[must_use]
 pub fn by_joint(model: &Model, x: &[f64]) -> NamedValues {
     model
-        .moving_joints()
+        .moving_user_joints()
         .map(|j| {
-            let value = JointValue::from_slice(&x[model.joint_v_range(j)]);
-            (model.joint(j).name.clone(), value)
+            let value = JointValue::from_slice(&x[model.user_joint_v_range(j)]);
+            (model.user_joints()[j].name.clone(), value)
         })
         .collect()
 }

@@ -308,21 +308,44 @@ pub fn distance(model: &Model, q0: &[f64], q1: &[f64]) -> Result<f64, Kinematics
     Ok(sum.sqrt())
 }
 
+/// The elementary joints a name stands for: a user joint (a composite joint's pieces together),
+/// or else one elementary joint (a composite's piece `hip.ry` alone).
+fn named_joints(model: &Model, name: &str) -> Option<core::ops::Range<usize>> {
+    match model.user_joint_index(name) {
+        Some(u) => Some(model.user_joints()[u].joints.clone()),
+        None => model.joint_index(name).map(|j| j..j + 1),
+    }
+}
+
 fn joint_block(
     model: &Model,
     name: &str,
     values: &[f64],
     velocity: bool,
 ) -> Result<core::ops::Range<usize>, KinematicsError> {
-    let j = model
-        .joint_index(name)
-        .ok_or_else(|| KinematicsError::UnknownJoint {
-            name: name.to_string(),
-        })?;
-    let range = if velocity {
-        model.joint_v_range(j)
-    } else {
-        model.joint_q_range(j)
+    let (j, range, kind) = match model.user_joint_index(name) {
+        Some(u) => {
+            let range = if velocity {
+                model.user_joint_v_range(u)
+            } else {
+                model.user_joint_q_range(u)
+            };
+            let j = model.user_joints()[u].joints.start;
+            (j, range, model.user_joint_type(u))
+        }
+        None => {
+            let j = model
+                .joint_index(name)
+                .ok_or_else(|| KinematicsError::UnknownJoint {
+                    name: name.to_string(),
+                })?;
+            let range = if velocity {
+                model.joint_v_range(j)
+            } else {
+                model.joint_q_range(j)
+            };
+            (j, range, model.joint(j).kind.as_str())
+        }
     };
     if range.is_empty() {
         let reason = match model.joint_body(j).and_then(|b| model.bodies()[b].mimic) {
@@ -342,7 +365,7 @@ fn joint_block(
             joint: name.to_string(),
             reason: format!(
                 "{} joint takes {} {} value(s), got {}",
-                model.joint(j).kind,
+                kind,
                 range.len(),
                 if velocity { "velocity" } else { "position" },
                 values.len()
@@ -370,7 +393,9 @@ fn joint_block(
 }
 
 /// Writes the configuration block of the joint named `name` into `q` (continuous joints by angle,
-/// spherical joints as quaternion x, y, z, w, floating joints as [x, y, z, qx, qy, qz, qw]).
+/// spherical joints as quaternion x, y, z, w, floating joints as [x, y, z, qx, qy, qz, qw], a
+/// composite joint's state variables in its factors' order; a composite's piece `NAME.rz` alone
+/// is addressed by its own name).
 ///
 /// # Errors
 /// [`KinematicsError::UnknownJoint`]; [`KinematicsError::InvalidJointValue`] for a fixed joint, a
@@ -481,14 +506,14 @@ pub fn from_named<N: AsRef<str>, V: AsRef<[f64]>>(
     for (name, value) in values {
         let name = name.as_ref();
         set_named(model, space, &mut out, [(name, value)])?;
-        if let Some(j) = model.joint_index(name) {
+        for j in named_joints(model, name).into_iter().flatten() {
             named[j] = true;
         }
     }
     let missing = model.moving_joints().find(|&j| !named[j]);
     match missing {
         Some(j) if every_joint => Err(KinematicsError::MissingJointValue {
-            joint: model.joint(j).name.clone(),
+            joint: model.user_joints()[model.user_joint_of(j)].name.clone(),
             space: space.as_str(),
         }),
         _ => Ok(out),

@@ -326,9 +326,11 @@ pub(crate) fn check_q(model: &Model, what: &'static str, q: &[f64]) -> Result<()
     for &(body, start) in model.quaternion_blocks() {
         let norm = quaternion_norm(&q[start..start + 4]);
         if (norm - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
-            let joint = model.bodies()[body]
-                .joint
-                .map_or_else(|| "root".to_string(), |j| model.joint(j).name.clone());
+            // Named as users name it (a composite joint by its own name, not its piece's).
+            let joint = model.bodies()[body].joint.map_or_else(
+                || "root".to_string(),
+                |j| model.user_joints()[model.user_joint_of(j)].name.clone(),
+            );
             return Err(KinematicsError::NonUnitQuaternion { joint, norm });
         }
     }

@@ -297,6 +297,44 @@ impl Model {
                 return Some(format!("frame '{}': {f:?} vs {g:?}", f.name));
             }
         }
+        let (ca, cb) = (self.composites(), other.composites());
+        if ca.len() != cb.len() {
+            return Some(format!("{} composite joints vs {}", ca.len(), cb.len()));
+        }
+        for (a, b) in ca.iter().zip(cb) {
+            let (a, b) = (&a.spec, &b.spec);
+            let same_factors = a.factors.len() == b.factors.len()
+                && a.factors.iter().zip(&b.factors).all(|(x, y)| {
+                    use crate::composite::Factor;
+                    match (x, y) {
+                        (Factor::Translate(p, Some(u)), Factor::Translate(q, Some(v)))
+                        | (Factor::Rotate(p, Some(u)), Factor::Rotate(q, Some(v))) => {
+                            p == q && close(*u, *v, tolerance)
+                        }
+                        (Factor::Rotation(r), Factor::Rotation(s)) => close_all(
+                            &r.normalize().to_array(),
+                            &s.normalize().to_array(),
+                            tolerance,
+                        ),
+                        _ => x == y,
+                    }
+                });
+            let same_limits = a.limits.len() == b.limits.len()
+                && a.limits
+                    .iter()
+                    .zip(&b.limits)
+                    .all(|(x, y)| close_limits(x, y, tolerance));
+            if a.name != b.name
+                || a.parent != b.parent
+                || a.child != b.child
+                || a.parent_frame != b.parent_frame
+                || !same_factors
+                || !same_limits
+                || !close_se3(&a.placement, &b.placement, tolerance)
+            {
+                return Some(format!("composite joint '{}': {a:?} vs {b:?}", a.name));
+            }
+        }
         None
     }
 }

@@ -2,17 +2,31 @@
 //! of elementary factors — translations along and rotations about the joint frame's x, y, z
 //! axes, and ball rotations — each either a constant or a state variable.
 //!
-//! [`ModelBuilder::add_composite`] places it between two links. Inside the model it is a chain
-//! of elementary joints (one per state variable, named `NAME.tx` … `NAME.rz`, `NAME.ball`)
-//! through massless links named `NAME#1`, `NAME#2`, …, with the constant factors folded into
-//! their placements; so forward kinematics, Jacobians, dynamics, inverse kinematics and the
-//! configuration-space operations all handle it, and its `nq` is the number of its state
-//! variables (4 for a ball factor's quaternion).
+//! [`ModelBuilder::add_composite`] places it between two links. Users see ONE joint: its name is
+//! in [`Model::user_joints`](crate::Model::user_joints) with `nq` = the number of its state
+//! variables (4 for a quaternion), it is addressed by that name wherever joints are named
+//! (named states, the CLI's `--q name=a:b:c`, `kinetree compute`'s `model.joints`), and a JSON
+//! model file writes it as one joint of `"type": "composite"`.
+//!
+//! Inside, it is expanded as RBDL expands multi-DoF joints: one elementary joint per state
+//! variable (named `NAME.tx` … `NAME.rz`, `NAME.quat`) through massless virtual links
+//! (`NAME#1`, `NAME#2`, …), with the constant factors folded into their placements. So the
+//! kernels (forward kinematics, Jacobians, dynamics and their derivatives) need no joint kind
+//! with a configuration-dependent motion subspace. [`Model::joints`](crate::Model::joints) and
+//! [`Model::links`](crate::Model::links) list those pieces (as the algorithms index them);
+//! [`Model::composite_of_joint`](crate::Model::composite_of_joint) and
+//! [`Model::is_virtual_link`](crate::Model::is_virtual_link) tell them apart.
+//!
+//! In a JSON model file it is `{"name": "hip", "type": "composite", "parent": …, "child": …,
+//! "origin": …, "factors": [{"param": "tx", "value": 100}, {"param": "ry", "limits": {…}},
+//! {"param": "rz"}, {"param": "quat"}]}`: `param` is `tx`, `ty`, `tz`, `rx`, `ry`, `rz` or
+//! `quat`, a factor with a `value` is a constant (a quaternion's is `[x, y, z, w]`), one without
+//! is a state variable (see [`crate::json`]). URDF has no such joint: `to_urdf_string` writes the
+//! expansion (pieces and virtual links), which reloads as separate joints.
 //!
 //! trip_kinematics' `Transformation(name, values, state_variables)` is, in its order
-//! (translation, then the intrinsic x-y-z rotations), the factors `tx ty tz rx ry rz` with
-//! `values` as constants and `state_variables` as variables; a quaternion state is a
-//! [`Factor::Ball`].
+//! (translation, then the intrinsic x-y-z rotations, or a quaternion), the factors
+//! `tx ty tz rx ry rz` (or `quat`) with `values` as constants and `state_variables` as variables.
 //!
 //! # Examples
 //! ```
@@ -30,15 +44,18 @@
 //! b.add_composite(hip);
 //! let leg = b.build()?;
 //! assert_eq!(leg.nq(), 2);
-//! assert!(leg.joint_index("hip.ry").is_some() && leg.joint_index("hip.rz").is_some());
+//! let hip = leg.user_joint_index("hip").unwrap();
+//! assert_eq!(leg.user_joint_q_range(hip), 0..2);
+//! assert_eq!(leg.user_joint_type(hip), "composite");
 //! # Ok(())
 //! # }
 //! ```
 
 use crate::builder::{JointSpec, ModelBuilder};
+use crate::error::Issue;
 use crate::joint::{JointKind, JointLimits};
 use crate::link::Link;
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use kinetree_spatial::Se3;
 
 /// A coordinate axis of the composite joint's frame.
@@ -63,7 +80,9 @@ impl Axis {
         }
     }
 
-    const fn letter(self) -> char {
+    /// The axis' letter (`'x'`, `'y'`, `'z'`).
+    #[must_use]
+    pub const fn letter(self) -> char {
         match self {
             Self::X => 'x',
             Self::Y => 'y',
@@ -82,13 +101,55 @@ pub enum Factor {
     Rotate(Axis, Option<f64>),
     /// A free rotation whose state is a quaternion `[x, y, z, w]` (trip's quaternion state).
     Ball,
+    /// A constant rotation given as a quaternion (trip's constant `qw qx qy qz`); it need not
+    /// be normalised, but must not be zero or non-finite.
+    Rotation(DQuat),
+}
+
+impl Factor {
+    /// The factor's parameter name as trip_kinematics and the JSON schema write it: `"tx"` …
+    /// `"rz"`, or `"quat"` for [`Factor::Ball`] and [`Factor::Rotation`].
+    #[must_use]
+    pub fn param(&self) -> String {
+        match self {
+            Self::Translate(a, _) => format!("t{}", a.letter()),
+            Self::Rotate(a, _) => format!("r{}", a.letter()),
+            Self::Ball | Self::Rotation(_) => "quat".into(),
+        }
+    }
+
+    /// Whether the factor is a state variable.
+    #[must_use]
+    pub const fn is_variable(&self) -> bool {
+        matches!(
+            self,
+            Self::Translate(_, None) | Self::Rotate(_, None) | Self::Ball
+        )
+    }
+
+    /// The factor from its parameter name (`"tx"` … `"rz"`, `"quat"`) and constant value (`None`
+    /// for a state variable; a quaternion constant is given as [`Factor::Rotation`]).
+    #[must_use]
+    pub fn from_param(param: &str, value: Option<f64>) -> Option<Self> {
+        let axis = match param.get(1..)? {
+            "x" => Axis::X,
+            "y" => Axis::Y,
+            "z" => Axis::Z,
+            _ => return (param == "quat" && value.is_none()).then_some(Self::Ball),
+        };
+        match param.as_bytes()[0] {
+            b't' => Some(Self::Translate(axis, value)),
+            b'r' => Some(Self::Rotate(axis, value)),
+            _ => None,
+        }
+    }
 }
 
 /// A composite joint between two links: `placement` (the pose of the joint frame in the parent
 /// link's frame), then `factors` in order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CompositeJointSpec {
-    /// The joint's name; its variables are `NAME.tx` … `NAME.rz` and `NAME.ball`.
+    /// The joint's name; its elementary pieces are `NAME.tx` … `NAME.rz` and `NAME.quat`.
     pub name: String,
     /// Parent link.
     pub parent: String,
@@ -101,6 +162,8 @@ pub struct CompositeJointSpec {
     /// Limits of every translation variable (m) and every rotation variable (rad), in the order
     /// of the variables; unlimited when empty or shorter.
     pub limits: Vec<JointLimits>,
+    /// A frame of the parent link that `placement` is relative to (as [`JointSpec::at_frame`]).
+    pub parent_frame: Option<String>,
 }
 
 impl CompositeJointSpec {
@@ -119,6 +182,7 @@ impl CompositeJointSpec {
             placement: Se3::IDENTITY,
             factors: factors.into(),
             limits: Vec::new(),
+            parent_frame: None,
         }
     }
 
@@ -129,26 +193,23 @@ impl CompositeJointSpec {
         self
     }
 
-    /// Sets the limits of the 1-DoF variables, in their order.
+    /// Sets the limits of the 1-DoF variables (translations in m, rotations in rad), in their
+    /// order.
     #[must_use]
     pub fn with_limits(mut self, limits: impl Into<Vec<JointLimits>>) -> Self {
         self.limits = limits.into();
         self
     }
 
-    /// The names of its elementary joints, one per state variable, in order (a joint with no
-    /// variable is one fixed joint named as the composite).
+    /// The names of its elementary joints, one per state variable, in order (`NAME.rz`,
+    /// `NAME.quat`; a joint with no variable is one fixed joint named as the composite).
     #[must_use]
     pub fn variable_names(&self) -> Vec<String> {
         let names: Vec<String> = self
             .factors
             .iter()
-            .filter_map(|f| match f {
-                Factor::Translate(a, None) => Some(format!("{}.t{}", self.name, a.letter())),
-                Factor::Rotate(a, None) => Some(format!("{}.r{}", self.name, a.letter())),
-                Factor::Ball => Some(format!("{}.ball", self.name)),
-                _ => None,
-            })
+            .filter(|f| f.is_variable())
+            .map(|f| format!("{}.{}", self.name, f.param()))
             .collect();
         if names.is_empty() {
             vec![self.name.clone()]
@@ -166,16 +227,7 @@ impl CompositeJointSpec {
         let mut parent = self.parent.clone();
         let mut variable = 0;
         let mut limits = self.limits.iter();
-        let count = self
-            .factors
-            .iter()
-            .filter(|f| {
-                matches!(
-                    f,
-                    Factor::Translate(_, None) | Factor::Rotate(_, None) | Factor::Ball
-                )
-            })
-            .count();
+        let count = self.factors.iter().filter(|f| f.is_variable()).count();
         for factor in &self.factors {
             let (kind, axis) = match *factor {
                 Factor::Translate(a, Some(x)) => {
@@ -184,6 +236,13 @@ impl CompositeJointSpec {
                 }
                 Factor::Rotate(a, Some(x)) => {
                     pose *= Se3::from_axis_angle(a.unit(), x);
+                    continue;
+                }
+                Factor::Rotation(r) => {
+                    // A zero or non-finite quaternion is reported by `check`.
+                    if let Some(r) = unit_quat(r) {
+                        pose *= Se3::from_quat(r);
+                    }
                     continue;
                 }
                 Factor::Translate(a, None) => (JointKind::Prismatic, a.unit()),
@@ -242,7 +301,83 @@ impl CompositeJointSpec {
                 .with_placement(pose),
             );
         }
+        if let (Some(frame), Some(first)) = (&self.parent_frame, joints.first_mut()) {
+            first.parent_frame = Some(frame.clone());
+        }
         (links, joints)
+    }
+}
+
+/// The factors in order, variables bare and constants with their value (SI): `tx=0.1 ry rz`.
+pub(crate) fn describe(spec: &CompositeJointSpec) -> String {
+    let parts: Vec<String> = spec
+        .factors
+        .iter()
+        .map(|f| match f {
+            Factor::Translate(_, Some(x)) | Factor::Rotate(_, Some(x)) => {
+                format!("{}={x}", f.param())
+            }
+            Factor::Rotation(r) => format!("quat={:?}", r.to_array()),
+            _ => f.param(),
+        })
+        .collect();
+    parts.join(" ")
+}
+
+/// The unit quaternion along `r`, or `None` when `r` is zero or not finite.
+fn unit_quat(r: DQuat) -> Option<DQuat> {
+    let n = r.length();
+    (n.is_finite() && n > 1e-12).then(|| DQuat::from_xyzw(r.x / n, r.y / n, r.z / n, r.w / n))
+}
+
+impl CompositeJointSpec {
+    /// The problems of the spec itself, each naming the joint: a state variable given twice, a
+    /// non-finite constant, a zero or non-finite quaternion constant, more limits than 1-DoF
+    /// variables.
+    #[must_use]
+    pub fn check(&self) -> Vec<Issue> {
+        let mut issues = Vec::new();
+        let mut bad = |reason: String| {
+            issues.push(Issue::InvalidComposite {
+                joint: self.name.clone(),
+                reason,
+            });
+        };
+        let mut seen: Vec<String> = Vec::new();
+        for (k, f) in self.factors.iter().enumerate() {
+            if f.is_variable() {
+                let p = f.param();
+                if seen.contains(&p) {
+                    bad(format!("state variable '{p}' is given twice"));
+                }
+                seen.push(p);
+            }
+            match *f {
+                Factor::Translate(_, Some(x)) | Factor::Rotate(_, Some(x)) if !x.is_finite() => {
+                    bad(format!(
+                        "factor {k} ('{}') has a non-finite value {x}",
+                        f.param()
+                    ));
+                }
+                Factor::Rotation(r) if unit_quat(r).is_none() => bad(format!(
+                    "factor {k} ('quat') is the quaternion {:?}, which is zero or not finite",
+                    r.to_array()
+                )),
+                _ => {}
+            }
+        }
+        let scalars = self
+            .factors
+            .iter()
+            .filter(|f| f.is_variable() && **f != Factor::Ball)
+            .count();
+        if self.limits.len() > scalars {
+            bad(format!(
+                "{} limits given for {scalars} translation and rotation variables",
+                self.limits.len()
+            ));
+        }
+        issues
     }
 }
 
@@ -259,6 +394,7 @@ impl ModelBuilder {
         for j in joints {
             self.add_joint(j);
         }
+        self.add_composite_spec(joint);
         self
     }
 }

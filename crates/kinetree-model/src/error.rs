@@ -346,6 +346,14 @@ pub enum Issue {
         /// Why.
         reason: String,
     },
+    /// A composite joint's spec is inconsistent (a state variable twice, a zero quaternion, a
+    /// joint attached inside it, …).
+    InvalidComposite {
+        /// The composite joint.
+        joint: String,
+        /// Why.
+        reason: String,
+    },
 }
 
 impl fmt::Display for Issue {
@@ -429,6 +437,9 @@ impl fmt::Display for Issue {
                 write!(f, "link '{link}' has invalid geometry: {reason}")
             }
             Self::InvalidRootJoint { joint, reason } => write!(f, "joint '{joint}': {reason}"),
+            Self::InvalidComposite { joint, reason } => {
+                write!(f, "composite joint '{joint}': {reason}")
+            }
             Self::InvalidJointDynamics { joint, what, value } => write!(
                 f,
                 "joint '{joint}' has a negative {what} ({}); it must be zero or positive",

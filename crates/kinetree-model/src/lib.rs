@@ -87,6 +87,7 @@ pub mod state;
 mod topology;
 pub mod units;
 pub mod urdf;
+mod user_joints;
 pub mod yapcad;
 
 pub use builder::{
@@ -101,4 +102,5 @@ pub use link::{Collision, Geometry, Inertial, Link, LinkMetadata, Visual};
 pub use model::{Body, BodyMimic, MimicMode, Model, ROOT_JOINT_NAME, RootJoint};
 pub use units::{AngleUnit, LengthUnit, Units};
 pub use urdf::LoadOptions;
+pub use user_joints::{CompositeJoint, UserJoint};
 pub use yapcad::YapcadChain;

@@ -130,6 +130,7 @@ pub struct Model {
     pub(crate) gravity: DVec3,
     pub(crate) ignored: Vec<String>,
     pub(crate) warnings: Vec<crate::error::Issue>,
+    pub(crate) user: crate::user_joints::UserJoints,
 }
 
 impl Model {
@@ -442,8 +443,15 @@ impl fmt::Display for Model {
         writeln!(f, "{} (nq = {}, nv = {})", self.name, self.nq, self.nv)?;
         let mut depth = vec![0usize; self.links.len()];
         for (i, link) in self.links.iter().enumerate() {
-            let d = self.parent_link(i).map_or(0, |p| depth[p] + 1);
+            // A composite joint's virtual links are not printed: its child hangs from its parent.
+            let virtual_link = self.is_virtual_link(i);
+            let d = self
+                .parent_link(i)
+                .map_or(0, |p| depth[p] + usize::from(!self.is_virtual_link(p)));
             depth[i] = d;
+            if virtual_link {
+                continue;
+            }
             // Indented by depth up to MAX_INDENT levels, deeper links tagged with their depth
             // (a 100 000-link chain would otherwise print 10¹⁰ spaces).
             const MAX_INDENT: usize = 32;
@@ -452,6 +460,13 @@ impl fmt::Display for Model {
                 indent.push_str(&format!("[depth {d}] "));
             }
             match self.link_parent_joint[i] {
+                Some(j) if self.composite_of_joint(j).is_some() => {
+                    let u = &self.user_joints()[self.user_joint_of(j)];
+                    let vars = crate::composite::describe(
+                        &self.composites()[u.composite.unwrap_or(0)].spec,
+                    );
+                    writeln!(f, "{indent}{} <- {} (composite: {vars})", link.name, u.name)?;
+                }
                 Some(j) => {
                     let joint = &self.joints[j];
                     writeln!(

@@ -200,23 +200,27 @@ pub fn positions_from_json(model: &Model, text: &str) -> Result<Vec<f64>, ModelE
         else {
             continue;
         };
-        let Some(ji) = model.joint_index(name) else {
+        // A composite joint's position is its whole block.
+        let Some(ji) = model.user_joint_index(name) else {
             continue;
         };
+        let range = model.user_joint_q_range(ji);
+        if range.is_empty() {
+            continue;
+        }
         let values: Vec<f64> = match position {
             serde_json::Value::Array(a) => a.iter().filter_map(serde_json::Value::as_f64).collect(),
             x => x.as_f64().into_iter().collect(),
         };
-        let kind = model.joint(ji).kind;
-        let coords = kind.q_coordinates();
+        let kind = model.user_joint_type(ji);
+        let coords = model.user_joint_q_coordinates(ji);
         if values.len() != coords.len() {
             return Err(bad(format!(
-                "joint '{name}': `position` has {} value(s), a {kind} joint has {}",
+                "joint '{name}': `position` has {} value(s), this {kind} joint has {}",
                 values.len(),
                 coords.len()
             )));
         }
-        let range = model.joint_q_range(ji);
         for ((qi, x), c) in q[range].iter_mut().zip(values).zip(coords) {
             *qi = c.to_si(x, units);
         }

@@ -76,10 +76,6 @@ impl PyModel {
     ) -> PyResult<States> {
         states(obj, name, self.model.nv(), family)
     }
-
-    fn moving(&self) -> impl Iterator<Item = &kinetree::model::Joint> + '_ {
-        self.model.moving_joints().map(|j| self.model.joint(j))
-    }
 }
 
 /// Text of a file, or the argument itself when it already is the document (starts with `start`).
@@ -319,29 +315,31 @@ impl PyModel {
     }
 
     /// The moving joints in ``q`` order, each with ``name``, ``kind``, ``idx_q``, ``nq``,
-    /// ``idx_v``, ``nv``, ``parent_link``, ``child_link``.
+    /// ``idx_v``, ``nv``, ``parent_link``, ``child_link``; a composite joint is one entry of
+    /// kind ``"composite"`` covering its state variables.
     ///
     /// >>> [(j.name, j.idx_q, j.nq) for j in panda.joints][-2:]
     /// [('panda_finger_joint1', 7, 1), ('panda_finger_joint2', 8, 1)]
     #[getter]
     fn joints(&self) -> Vec<PyJoint> {
         let m = &self.model;
-        m.moving_joints()
-            .map(|j| {
-                let joint = m.joint(j);
-                let (rq, rv) = (m.joint_q_range(j), m.joint_v_range(j));
+        m.moving_user_joints()
+            .map(|u| {
+                let pieces = m.user_joints()[u].joints.clone();
+                let (first, last) = (m.joint(pieces.start), m.joint(pieces.end - 1));
+                let (rq, rv) = (m.user_joint_q_range(u), m.user_joint_v_range(u));
                 PyJoint {
-                    name: joint.name.clone(),
-                    kind: joint.kind.as_str().to_string(),
+                    name: m.user_joints()[u].name.clone(),
+                    kind: m.user_joint_type(u).to_string(),
                     idx_q: rq.start,
                     nq: rq.len(),
                     idx_v: rv.start,
                     nv: rv.len(),
-                    parent_link: joint
+                    parent_link: first
                         .parent_link
                         .map(|l| m.link(l).name.clone())
                         .unwrap_or_default(),
-                    child_link: m.link(joint.child_link).name.clone(),
+                    child_link: m.link(last.child_link).name.clone(),
                 }
             })
             .collect()
@@ -350,7 +348,10 @@ impl PyModel {
     /// Names of the moving joints, in ``q`` order.
     #[getter]
     fn joint_names(&self) -> Vec<String> {
-        self.moving().map(|j| j.name.clone()).collect()
+        let m = &self.model;
+        m.moving_user_joints()
+            .map(|u| m.user_joints()[u].name.clone())
+            .collect()
     }
 
     /// Names of all links, in the order of ``link_placements``.
@@ -671,13 +672,13 @@ impl PyModel {
     ) -> PyResult<Bound<'py, PyDict>> {
         let m = &self.model;
         let dict = PyDict::new(py);
-        for j in m.moving_joints() {
+        for j in m.moving_user_joints() {
             let r = if velocity {
-                m.joint_v_range(j)
+                m.user_joint_v_range(j)
             } else {
-                m.joint_q_range(j)
+                m.user_joint_q_range(j)
             };
-            let name = &m.joint(j).name;
+            let name = &m.user_joints()[j].name;
             if r.len() == 1 {
                 dict.set_item(name, values[r.start])?;
             } else {

@@ -211,3 +211,22 @@ def test_docstring_examples_run(panda):
     result = runner.summarize(verbose=False)
     assert result.failed == 0
     assert ran >= 40, ran
+
+
+def test_a_composite_joint_is_one_joint():
+    """trip_kinematics' Transformation as a JSON composite joint: one entry in ``joints``."""
+    leg = kinetree.Model.from_json("""{"links": [{"name": "pelvis"}, {"name": "thigh",
+        "inertial": {"mass": 1.0, "inertia": {"ixx": 0.01, "iyy": 0.01, "izz": 0.01}}}],
+      "joints": [{"name": "hip", "type": "composite", "parent": "pelvis", "child": "thigh",
+        "factors": [{"param": "tx", "value": 0.1}, {"param": "ry"}, {"param": "rz"}]}]}""")
+    [hip] = leg.joints
+    assert (hip.name, hip.kind, hip.idx_q, hip.nq, hip.idx_v, hip.nv) == ("hip", "composite", 0, 2, 0, 2)
+    assert (hip.parent_link, hip.child_link) == ("pelvis", "thigh")
+    assert leg.joint_names == ["hip"]
+    q = leg.q_from_dict({"hip": [0.3, -0.2]})
+    np.testing.assert_array_equal(q, [0.3, -0.2])
+    np.testing.assert_array_equal(leg.dict_from_q(q)["hip"], [0.3, -0.2])
+    # Ry(0.3)·Rz(-0.2) after the constant tx = 0.1.
+    pose = leg.frame_placement(q, "thigh")
+    np.testing.assert_allclose(pose[:3, 3], [0.1, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(pose[2, 0], -np.sin(0.3) * np.cos(-0.2), atol=1e-15)

@@ -30,7 +30,11 @@ fn report(model: &Model, file: &str) -> String {
     let mut out = String::new();
     // The model's Display is the header `name (nq = …, nv = …)` and the indented tree.
     let _ = write!(out, "{model}");
-    let moving = model.joints().iter().filter(|j| j.kind.is_moving()).count();
+    let joint_count = model.user_joints().len();
+    let moving = model.moving_user_joints().count();
+    let link_count = (0..model.links().len())
+        .filter(|&l| !model.is_virtual_link(l))
+        .count();
     let root = match model.root_joint() {
         RootJoint::Fixed => "fixed (welded to the world)",
         RootJoint::Floating => "floating (6-DoF root joint)",
@@ -40,16 +44,31 @@ fn report(model: &Model, file: &str) -> String {
     let _ = writeln!(out, "root:    {root}");
     let _ = writeln!(
         out,
-        "size:    nq = {}, nv = {}; {} links, {} joints ({moving} moving), {} bodies (world included)",
+        "size:    nq = {}, nv = {}; {link_count} links, {joint_count} joints ({moving} moving), {} bodies (world included)",
         model.nq(),
         model.nv(),
-        model.links().len(),
-        model.joints().len(),
         model.nbodies()
     );
+    if !model.composites().is_empty() {
+        let _ = writeln!(
+            out,
+            "         {} composite joint(s), built from {} elementary joints through {} massless virtual links",
+            model.composites().len(),
+            model
+                .composites()
+                .iter()
+                .map(|c| c.joints.len())
+                .sum::<usize>(),
+            model
+                .composites()
+                .iter()
+                .map(|c| c.links.len())
+                .sum::<usize>(),
+        );
+    }
     let _ = writeln!(out, "gravity: {} m/s²", vec3(model.gravity().to_array()));
 
-    let _ = writeln!(out, "\njoints ({}):", model.joints().len());
+    let _ = writeln!(out, "\njoints ({joint_count}):");
     let mut joints = Table::new(&[
         "name",
         "type",
@@ -62,7 +81,13 @@ fn report(model: &Model, file: &str) -> String {
         ">idx_q",
         ">idx_v",
     ]);
-    for (j, joint) in model.joints().iter().enumerate() {
+    for (u, user) in model.user_joints().iter().enumerate() {
+        let j = user.joints.start;
+        let joint = model.joint(j);
+        if let Some(c) = user.composite {
+            joints.row(composite_row(model, u, c));
+            continue;
+        }
         let parent = joint
             .parent_link
             .map_or("world", |p| model.link(p).name.as_str());
@@ -105,7 +130,7 @@ fn report(model: &Model, file: &str) -> String {
     }
     let _ = write!(out, "{joints}");
 
-    let _ = writeln!(out, "\nlinks ({}):", model.links().len());
+    let _ = writeln!(out, "\nlinks ({link_count}):");
     let mut links = Table::new(&[
         "name",
         ">mass (kg)",
@@ -113,7 +138,12 @@ fn report(model: &Model, file: &str) -> String {
         ">visuals",
         ">collisions",
     ]);
-    for link in model.links() {
+    let authored = model
+        .links()
+        .iter()
+        .enumerate()
+        .filter(|&(l, _)| !model.is_virtual_link(l));
+    for (_, link) in authored {
         let (mass, com) = link
             .inertial
             .map_or(("-".to_string(), "-".to_string()), |i| {
@@ -156,6 +186,62 @@ fn report(model: &Model, file: &str) -> String {
     let _ = writeln!(out, "\nwarnings ({}):", model.warnings().len());
     list(&mut out, model.warnings().iter());
     out
+}
+
+/// A composite joint's row: its factors in the axis column (`tx=0.1 ry rz`), its variables'
+/// limits as lists, its whole blocks.
+fn composite_row(model: &Model, u: usize, c: usize) -> Vec<String> {
+    use kinetree::model::composite::Factor;
+    let spec = &model.composites()[c].spec;
+    let factors: Vec<String> = spec
+        .factors
+        .iter()
+        .map(|f| match f {
+            Factor::Translate(_, Some(x)) | Factor::Rotate(_, Some(x)) => {
+                format!("{}={}", f.param(), num(*x))
+            }
+            Factor::Rotation(r) => format!("quat={:?}", r.to_array().map(num)),
+            _ => f.param(),
+        })
+        .collect();
+    let pieces = model.user_joints()[u].joints.clone();
+    let scalar = pieces
+        .clone()
+        .map(|j| model.joint(j))
+        .filter(|j| j.kind.nq() == 1)
+        .collect::<Vec<_>>();
+    let list = |pick: &dyn Fn(&kinetree::model::JointLimits) -> f64| {
+        let v: Vec<String> = scalar.iter().map(|j| num(pick(&j.limits))).collect();
+        if v.is_empty() {
+            "-".to_string()
+        } else {
+            v.join(",")
+        }
+    };
+    let (q, v) = (model.user_joint_q_range(u), model.user_joint_v_range(u));
+    let index = |r: core::ops::Range<usize>| {
+        if r.is_empty() {
+            "-".to_string()
+        } else {
+            format!("{}..{}", r.start, r.end)
+        }
+    };
+    let parent = model
+        .joint(pieces.start)
+        .parent_link
+        .map_or("world", |p| model.link(p).name.as_str());
+    vec![
+        spec.name.clone(),
+        "composite".into(),
+        format!("{parent} → {}", spec.child),
+        factors.join(" "),
+        list(&|l| l.lower),
+        list(&|l| l.upper),
+        list(&|l| l.velocity),
+        list(&|l| l.effort),
+        index(q),
+        index(v),
+    ]
 }
 
 fn list<T: std::fmt::Display>(out: &mut String, items: impl ExactSizeIterator<Item = T>) {

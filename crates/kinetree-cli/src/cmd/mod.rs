@@ -140,14 +140,16 @@ pub(crate) fn parse_named(model: &Model, spec: Option<&str>, velocity: bool) -> 
     Ok(from_named(model, space, named, false)?)
 }
 
-/// Writes `values` keyed by the moving joints' names, one line each, to a string.
+/// Writes `values` keyed by the moving joints' names (a composite joint once), one line each, to
+/// a string.
 pub(crate) fn by_joint_lines(model: &Model, values: &[f64], unit: &str) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    for j in model.moving_joints() {
-        let r = model.joint_v_range(j);
+    for j in model.moving_user_joints() {
+        let r = model.user_joint_v_range(j);
         let x: Vec<String> = values[r].iter().map(|x| format!("{x:>14.6}")).collect();
-        let _ = writeln!(s, "  {:<28} {} {unit}", model.joint(j).name, x.join(" "));
+        let name = &model.user_joints()[j].name;
+        let _ = writeln!(s, "  {name:<28} {} {unit}", x.join(" "));
     }
     s
 }

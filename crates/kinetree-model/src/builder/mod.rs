@@ -89,6 +89,7 @@ pub struct ModelBuilder {
     inertia_check: InertiaCheck,
     mimic_mode: MimicMode,
     world_parents: bool,
+    composites: Vec<crate::composite::CompositeJointSpec>,
 }
 
 impl ModelBuilder {
@@ -165,6 +166,11 @@ impl ModelBuilder {
         self
     }
 
+    /// Records a composite joint's spec (its pieces are added by `add_composite`).
+    pub(crate) fn add_composite_spec(&mut self, spec: crate::composite::CompositeJointSpec) {
+        self.composites.push(spec);
+    }
+
     /// Records a problem that a loader repaired instead of rejecting (reported by
     /// [`Model::warnings`]).
     pub(crate) fn note_warning(&mut self, issue: Issue) -> &mut Self {
@@ -195,6 +201,7 @@ impl ModelBuilder {
         );
         model.warnings = self.warnings.clone();
         model.warnings.extend(checked.warnings);
+        model.user = crate::user_joints::resolve(&model, &self.composites);
         Ok(model)
     }
 
@@ -230,7 +237,7 @@ impl ModelBuilder {
     }
 
     fn check(&self) -> Checked {
-        let mut issues = Vec::new();
+        let mut issues = crate::user_joints::check(&self.composites, &self.joints, &self.frames);
 
         let link_names = unique_names(
             self.links.iter().map(|l| l.name.as_str()),
@@ -700,6 +707,7 @@ impl ModelBuilder {
             gravity: self.gravity.unwrap_or(DVec3::new(0.0, 0.0, -9.81)),
             ignored: self.ignored.clone(),
             warnings: Vec::new(),
+            user: crate::user_joints::UserJoints::default(),
         }
     }
 }

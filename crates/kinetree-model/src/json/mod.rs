@@ -68,6 +68,13 @@
 //!   default 0), `mimic` (`joint`, `multiplier` default 1, `offset` default 0), and `position`,
 //!   the joint's current value (a number, or an array for multi-DoF joints, in the file's units),
 //!   which is informational: it is accepted on import but not stored in the model.
+//! - A joint of `"type": "composite"` ([`crate::composite`]) has `name`, `parent`, `child`,
+//!   `parent_frame`, `origin`, `position` (its state variables' values) and `factors` instead of
+//!   `axis`, `limits`, `dynamics` and `mimic`: a list applied in order, each `{"param": P}` (a
+//!   state variable, optionally with `limits`) or `{"param": P, "value": x}` (a constant), where
+//!   `P` is `tx`, `ty`, `tz` (lengths), `rx`, `ry`, `rz` (angles) or `quat` (a quaternion state,
+//!   or a constant `[x, y, z, w]`). Export writes it back the same way, and leaves out its
+//!   virtual links.
 //! - `frames`: named frames on links: `name`, `link`, `description`, and either `origin` or
 //!   `datum: {"file", "name"}`, which reads the pose from a datum file (a path relative to the
 //!   model file's directory; relative to the current directory when loading from a string).
@@ -87,6 +94,7 @@
 //!
 //! A missing datum file or datum is an error ([`ModelError::Datum`]), never an identity pose.
 
+mod composite;
 pub(crate) mod read;
 mod schema;
 #[cfg(test)]

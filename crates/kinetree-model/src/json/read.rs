@@ -239,6 +239,21 @@ pub(super) fn from_json(
     }
     for jd in &doc.joints {
         let name = &jd.name;
+        let kind = match jd.kind {
+            KindDoc::Composite => {
+                let placement = origin(jd.origin.as_ref(), &|| format!("joint '{name}'"))?;
+                b.add_composite(
+                    super::composite::spec_from_doc(jd, placement, units).map_err(bad)?,
+                );
+                continue;
+            }
+            KindDoc::Joint(kind) => kind,
+        };
+        if jd.factors.is_some() {
+            return Err(bad(format!(
+                "joint '{name}': only a composite joint has `factors` (this one is {kind})"
+            )));
+        }
         let lim = jd.limits.as_ref();
         let raw = JointLimits {
             lower: lim.and_then(|x| x.lower).unwrap_or(f64::NEG_INFINITY),
@@ -246,7 +261,7 @@ pub(super) fn from_json(
             velocity: lim.and_then(|x| x.velocity).unwrap_or(f64::INFINITY),
             effort: lim.and_then(|x| x.effort).unwrap_or(f64::INFINITY),
         };
-        let limits = convert_limits(name, jd.kind, raw, units, true).map_err(bad)?;
+        let limits = convert_limits(name, kind, raw, units, true).map_err(bad)?;
         let dynamics = jd
             .dynamics
             .as_ref()
@@ -255,7 +270,7 @@ pub(super) fn from_json(
                 friction: d.friction,
                 armature: d.armature,
             });
-        let mut spec = JointSpec::new(name.clone(), jd.kind, jd.parent.clone(), jd.child.clone())
+        let mut spec = JointSpec::new(name.clone(), kind, jd.parent.clone(), jd.child.clone())
             .with_placement(origin(jd.origin.as_ref(), &|| format!("joint '{name}'"))?)
             .with_axis(jd.axis.map_or(DVec3::Z, DVec3::from_array))
             .with_limits(limits)

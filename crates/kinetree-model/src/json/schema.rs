@@ -379,7 +379,7 @@ impl<'de> Deserialize<'de> for PositionDoc {
 pub(super) struct JointDoc {
     pub(super) name: String,
     #[serde(rename = "type")]
-    pub(super) kind: JointKind,
+    pub(super) kind: KindDoc,
     pub(super) parent: String,
     pub(super) child: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -400,6 +400,61 @@ pub(super) struct JointDoc {
     pub(super) mimic: Option<MimicDoc>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(super) position: Option<PositionDoc>,
+    /// A composite joint's factors, in order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) factors: Option<Vec<FactorDoc>>,
+}
+
+/// A joint's `type`: an elementary kind, or `"composite"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum KindDoc {
+    Joint(JointKind),
+    Composite,
+}
+
+impl Serialize for KindDoc {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Self::Joint(k) => k.serialize(s),
+            Self::Composite => s.serialize_str("composite"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for KindDoc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        const NAMES: [&str; 9] = [
+            "fixed",
+            "revolute",
+            "continuous",
+            "prismatic",
+            "cylindrical",
+            "spherical",
+            "planar",
+            "floating",
+            "composite",
+        ];
+        let name = String::deserialize(d)?;
+        if name == "composite" {
+            return Ok(Self::Composite);
+        }
+        JointKind::from_name(&name)
+            .map(Self::Joint)
+            .ok_or_else(|| D::Error::unknown_variant(&name, &NAMES))
+    }
+}
+
+/// One factor of a composite joint: `param` is `tx`, `ty`, `tz`, `rx`, `ry`, `rz` or `quat`;
+/// with a `value` it is a constant (a number, or `[x, y, z, w]` for `quat`), without one a state
+/// variable, which may have `limits`.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FactorDoc {
+    pub(super) param: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) value: Option<PositionDoc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) limits: Option<LimitsDoc>,
 }
 
 #[derive(Debug, Serialize, Deserialize)]

@@ -95,6 +95,7 @@ pub(super) fn to_json(model: &Model, o: &JsonOptions<'_>) -> Result<String, Mode
         .links()
         .iter()
         .enumerate()
+        .filter(|&(li, _)| !model.is_virtual_link(li))
         .map(|(li, link)| LinkDoc {
             name: link.name.clone(),
             inertial: link.inertial.map(|i| {
@@ -154,11 +155,25 @@ pub(super) fn to_json(model: &Model, o: &JsonOptions<'_>) -> Result<String, Mode
     let mut joints = Vec::with_capacity(model.joints().len());
     for (ji, j) in model.joints().iter().enumerate() {
         // The floating root joint is the `root_joint` option, not a joint of the file.
-        // The floating root joint is the `root_joint` option, not a joint of the file.
         if model.is_floating_root_joint(ji) {
             continue;
         }
         let (parent, parent_frame, origin) = joint_attachment(model, j);
+        // A composite joint is written once, as itself, in place of its pieces.
+        if let Some(c) = model.composite_of_joint(ji) {
+            if model.composites()[c].joints.start == ji {
+                let placement = origin_doc(&model.composites()[c].spec.placement, u);
+                let at = (parent, parent_frame, placement);
+                joints.push(super::composite::doc_from_composite(
+                    model,
+                    c,
+                    at,
+                    o.positions,
+                    u,
+                ));
+            }
+            continue;
+        }
         let limits = convert_limits(&j.name, j.kind, j.limits, u, false).map_err(bad)?;
         let finite = |x: f64| x.is_finite().then_some(x);
         let limits_doc = LimitsDoc {
@@ -174,7 +189,7 @@ pub(super) fn to_json(model: &Model, o: &JsonOptions<'_>) -> Result<String, Mode
         let d = j.dynamics;
         joints.push(JointDoc {
             name: j.name.clone(),
-            kind: j.kind,
+            kind: KindDoc::Joint(j.kind),
             parent,
             child: model.link(j.child_link).name.clone(),
             parent_frame,
@@ -195,6 +210,7 @@ pub(super) fn to_json(model: &Model, o: &JsonOptions<'_>) -> Result<String, Mode
                 .positions
                 .filter(|_| j.kind.is_moving())
                 .map(|q| position_doc(j.kind, &q[model.joint_q_range(ji)], u)),
+            factors: None,
         });
     }
     let frames = model

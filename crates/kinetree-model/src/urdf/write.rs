@@ -126,6 +126,11 @@ impl Model {
     /// Writes the model as a URDF document that [`Model::from_urdf_str`] reads back to the same
     /// model (see the [module docs](crate::urdf) for what URDF cannot hold).
     ///
+    /// URDF has no composite joint ([`crate::composite`]): a composite joint is written expanded,
+    /// as its elementary pieces (`NAME.rz`, …) and massless virtual links (`NAME#1`, …), which
+    /// read back as the same kinematics and dynamics but as separate joints. Use the JSON schema
+    /// to keep it one joint.
+    ///
     /// # Errors
     /// [`ModelError::UnsupportedJoint`] naming the first cylindrical joint.
     ///

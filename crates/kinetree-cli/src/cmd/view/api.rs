@@ -89,7 +89,7 @@ pub(crate) fn parse_q(model: &Model, body: &Map<String, Value>) -> Result<Vec<f6
         Some(v @ Value::Array(_)) => q = numbers(v, Some(model.nq()), "q")?,
         Some(Value::Object(by_name)) => {
             for (name, value) in by_name {
-                if model.joint_index(name).is_none() {
+                if model.find_user_joint(name).is_none() {
                     return Err(ApiError::bad(format!("unknown joint '{name}' in q")));
                 }
                 let values = match value {
@@ -137,6 +137,8 @@ pub(crate) fn model_json(model: &Model, mesh_url: &dyn Fn(&str) -> Option<String
         .map(|(i, l)| {
             json!({
                 "name": l.name,
+                // A composite joint's massless virtual link (`hip#1`): internal, nothing to show.
+                "virtual": model.is_virtual_link(i),
                 "parent": model.parent_link(i).map(|p| model.link(p).name.clone()),
                 "mass": l.inertial.as_ref().map_or(0.0, |m| m.mass),
                 "visuals": l.visuals.iter().map(|v| json!({
@@ -172,6 +174,10 @@ pub(crate) fn model_json(model: &Model, mesh_url: &dyn Fn(&str) -> Option<String
                 "lower": joint.limits.lower, "upper": joint.limits.upper,
                 "mimic": joint.mimic.is_some(),
                 "neutral": &neutral[r],
+                // The composite joint this slider is a state variable of, if any.
+                "composite": model
+                    .composite_of_joint(j)
+                    .map(|c| model.composites()[c].spec.name.clone()),
             })
         })
         .collect();
