@@ -387,3 +387,296 @@ fn compute_takes_and_prints_millimetres_and_degrees() {
     let (ca, cb) = (a["com"][2].as_f64().unwrap(), b["com"][2].as_f64().unwrap());
     assert_close!(cb, 1000.0 * ca, 1e-9);
 }
+
+/// A leg whose hip and knee are composite joints (trip_kinematics' `Transformation`).
+const LEG: &str = r#"{"name": "leg",
+  "links": [
+    {"name": "pelvis"},
+    {"name": "thigh", "inertial": {"origin": {"xyz": [0.05, 0.1, -0.2]}, "mass": 1.5,
+       "inertia": {"ixx": 0.03, "iyy": 0.04, "izz": 0.02}}},
+    {"name": "shank", "inertial": {"origin": {"xyz": [0.05, 0.1, -0.2]}, "mass": 1.5,
+       "inertia": {"ixx": 0.03, "iyy": 0.04, "izz": 0.02}}}],
+  "joints": [
+    {"name": "hip", "type": "composite", "parent": "pelvis", "child": "thigh",
+     "origin": {"xyz": [0, 0.2, 0]},
+     "factors": [{"param": "tx", "value": 0.1}, {"param": "ry", "limits": {"lower": -2, "upper": 2}},
+                 {"param": "rz"}, {"param": "tz", "value": -0.05}]},
+    {"name": "knee", "type": "composite", "parent": "thigh", "child": "shank",
+     "factors": [{"param": "quat"}, {"param": "tz", "value": 0.3}, {"param": "ty"}]}]}"#;
+
+#[test]
+fn a_composite_joint_is_one_joint_at_the_command_line() {
+    let model = temp("leg.json");
+    std::fs::write(&model, LEG).unwrap();
+    let model_s = model.to_str().unwrap();
+    // inspect: two joints, three links, no pieces or virtual links.
+    let text = ok(&kinetree(&["inspect", model_s]));
+    assert!(
+        text.contains("joints (2):") && text.contains("links (3):"),
+        "{text}"
+    );
+    let hip = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("hip "))
+        .unwrap();
+    assert!(
+        hip.contains("composite") && hip.contains("tx=0.1 ry rz tz=-0.05"),
+        "{hip}"
+    );
+    assert!(hip.contains("0..2"), "{hip}");
+    assert!(
+        !text.contains("hip#1") && !text.contains("hip.ry"),
+        "{text}"
+    );
+    // compute: model.joints lists the composite joints with their whole blocks.
+    let states = temp("leg-states.json");
+    std::fs::write(
+        &states,
+        r#"{"samples": [{"q": {"hip": [0.3, -0.2], "knee": [0, 0, 0.6, 0.8, 0.25]}, "v": {"knee": [1, 0, 0, 0.5]}}]}"#,
+    )
+    .unwrap();
+    let out: serde_json::Value = serde_json::from_str(&ok(&kinetree(&[
+        "compute",
+        model_s,
+        "--states",
+        states.to_str().unwrap(),
+    ])))
+    .unwrap();
+    let joints: Vec<(String, String, u64, u64, u64, u64)> = out["model"]["joints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| {
+            let n = |k: &str| j[k].as_u64().unwrap();
+            (
+                j["name"].as_str().unwrap().to_string(),
+                j["type"].as_str().unwrap().to_string(),
+                n("idx_q"),
+                n("nq"),
+                n("idx_v"),
+                n("nv"),
+            )
+        })
+        .collect();
+    let want = [
+        ("hip", "composite", 0, 2, 0, 2),
+        ("knee", "composite", 2, 5, 2, 4),
+    ];
+    let want: Vec<_> = want
+        .iter()
+        .map(|&(a, b, c, d, e, f)| (a.to_string(), b.to_string(), c, d, e, f))
+        .collect();
+    assert_eq!(joints, want);
+    let sample = &out["samples"][0];
+    let links: Vec<&String> = sample["link_poses"].as_object().unwrap().keys().collect();
+    assert_eq!(links, ["pelvis", "shank", "thigh"]);
+    let g = &sample["by_joint"]["gravity_torque"];
+    assert_eq!(g["hip"].as_array().unwrap().len(), 2, "{g}");
+    assert_eq!(g["knee"].as_array().unwrap().len(), 4, "{g}");
+    // dynamics: --q names the composite joint with its values separated by `:`, and the torques
+    // are printed by composite joint; they equal compute's nle at that state (a = 0).
+    let text = ok(&kinetree(&[
+        "dynamics",
+        model_s,
+        "--q",
+        "hip=0.3:-0.2,knee=0:0:0.6:0.8:0.25",
+        "--v",
+        "knee=1:0:0:0.5",
+        "--a",
+        "hip=0:0",
+    ]));
+    let hip_tau: Vec<f64> = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("hip "))
+        .unwrap()
+        .split_whitespace()
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let nle = &sample["by_joint"]["nle"]["hip"];
+    for (k, x) in hip_tau.iter().enumerate() {
+        let y = nle[k].as_f64().unwrap();
+        assert!((x - y).abs() < 1e-5 * (1.0 + y.abs()), "{text} vs {nle}");
+    }
+    // A wrong number of values names the composite joint.
+    let e = kinetree(&["dynamics", model_s, "--q", "hip=0.3", "--a", "hip=0:0"]);
+    assert!(!e.status.success());
+    let err = String::from_utf8_lossy(&e.stderr);
+    assert!(
+        err.contains("'hip'") && err.contains("composite joint takes 2"),
+        "{err}"
+    );
+    // convert: JSON to JSON keeps it one composite joint.
+    let again = temp("leg-again.json");
+    ok(&kinetree(&["convert", model_s, again.to_str().unwrap()]));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&again).unwrap()).unwrap();
+    assert_eq!(joint(&doc, "hip")["type"], "composite");
+    assert_eq!(doc["joints"].as_array().unwrap().len(), 2);
+}
+
+#[test]
+fn compute_mm_deg_converts_every_length_and_angle_and_lists_what_stays_si() {
+    let model = temp("slide-turn.json");
+    std::fs::write(
+        &model,
+        r#"{"name": "st",
+  "links": [
+    {"name": "base", "collisions": [{"geometry": {"type": "box", "size": [0.1, 0.1, 0.1]}}]},
+    {"name": "slider", "inertial": {"mass": 1.0, "inertia": {"ixx": 0.01, "iyy": 0.01, "izz": 0.01}}},
+    {"name": "arm", "inertial": {"origin": {"xyz": [0.25, 0, 0]}, "mass": 2.0,
+       "inertia": {"ixx": 0.01, "iyy": 0.05, "izz": 0.05}},
+     "collisions": [{"origin": {"xyz": [0.5, 0, 0]}, "geometry": {"type": "box", "size": [0.1, 0.1, 0.1]}}]}],
+  "joints": [
+    {"name": "slide", "type": "prismatic", "parent": "base", "child": "slider", "axis": [1, 0, 0]},
+    {"name": "turn", "type": "revolute", "parent": "slider", "child": "arm", "origin": {"xyz": [0, 0, 0.1]},
+     "axis": [0, 1, 0]}],
+  "frames": [{"name": "tip", "link": "arm", "origin": {"xyz": [0.5, 0, 0]}}]}"#,
+    )
+    .unwrap();
+    let (q, v, tau) = ([0.2, 0.5], [0.1, 0.3], [1.0, 2.0]);
+    let states = |mm: bool| {
+        let (l, a) = if mm {
+            (1000.0, 180.0 / std::f64::consts::PI)
+        } else {
+            (1.0, 1.0)
+        };
+        let path = temp(if mm { "st-mm.json" } else { "st-si.json" });
+        std::fs::write(
+            &path,
+            format!(
+                r#"{{"samples": [{{"q": {{"slide": {}, "turn": {}}}, "v": {{"slide": {}, "turn": {}}},
+                    "tau": {{"slide": {}, "turn": {}}}}}]}}"#,
+                q[0] * l,
+                q[1] * a,
+                v[0] * l,
+                v[1] * a,
+                tau[0],
+                tau[1]
+            ),
+        )
+        .unwrap();
+        path
+    };
+    let run = |mm: bool| -> serde_json::Value {
+        let file = states(mm);
+        let text = ok(&kinetree(&[
+            "compute",
+            model.to_str().unwrap(),
+            "--states",
+            file.to_str().unwrap(),
+            "--frames",
+            "tip",
+            "--jacobians",
+            "tip",
+            "--collision",
+            "--units",
+            if mm { "mm-deg" } else { "si" },
+        ]));
+        serde_json::from_str(&text).unwrap()
+    };
+    let (si, mm) = (run(false), run(true));
+    let deg = 180.0 / std::f64::consts::PI;
+    let (a, b) = (&si["samples"][0], &mm["samples"][0]);
+    let close = |x: &serde_json::Value, y: &serde_json::Value, s: f64, what: &str| {
+        let (x, y) = match (x.as_f64(), y.as_f64()) {
+            (Some(x), Some(y)) => (x, y),
+            _ => panic!("{what}: {x} and {y} are not both numbers"),
+        };
+        assert!(
+            (y - s * x).abs() < 1e-9 * (1.0 + y.abs()),
+            "{what}: {x} × {s} vs {y}"
+        );
+    };
+    // Positions: link and frame translations, the centre of mass, collision distances, in mm.
+    for k in 0..3 {
+        close(
+            &a["link_poses"]["arm"]["translation"][k],
+            &b["link_poses"]["arm"]["translation"][k],
+            1000.0,
+            "link",
+        );
+        close(
+            &a["frame_poses"]["tip"]["translation"][k],
+            &b["frame_poses"]["tip"]["translation"][k],
+            1000.0,
+            "frame",
+        );
+        close(&a["com"][k], &b["com"][k], 1000.0, "com");
+    }
+    let d = &a["collision"][0]["distance"];
+    assert!(d.as_f64().unwrap() > 0.1, "{a}");
+    close(d, &b["collision"][0]["distance"], 1000.0, "collision");
+    // The Jacobian: linear rows in mm, angular rows in deg, per mm (slide) or deg (turn).
+    for row in 0..6 {
+        let out = if row < 3 { 1000.0 } else { deg };
+        for (col, per) in [(0, 1000.0), (1, deg)] {
+            let (x, y) = (
+                &a["jacobians"]["tip"][row][col],
+                &b["jacobians"]["tip"][row][col],
+            );
+            close(x, y, out / per, &format!("J[{row}][{col}]"));
+        }
+    }
+    // The turn's angular Jacobian column is its axis, in deg/s per deg/s.
+    close(
+        &b["jacobians"]["tip"][4][1],
+        &serde_json::json!(1.0),
+        1.0,
+        "J axis",
+    );
+    // Accelerations per coordinate: mm/s² for the slide, deg/s² for the turn.
+    close(&a["aba"][0], &b["aba"][0], 1000.0, "aba slide");
+    close(&a["aba"][1], &b["aba"][1], deg, "aba turn");
+    close(
+        &a["by_joint"]["aba"]["slide"],
+        &b["by_joint"]["aba"]["slide"],
+        1000.0,
+        "by_joint slide",
+    );
+    close(
+        &a["by_joint"]["aba"]["turn"],
+        &b["by_joint"]["aba"]["turn"],
+        deg,
+        "by_joint turn",
+    );
+    // What stays SI is the same number, and the output says so.
+    for key in ["gravity_torque", "nle"] {
+        for k in 0..2 {
+            close(&a[key][k], &b[key][k], 1.0, key);
+        }
+    }
+    for key in ["kinetic_energy", "potential_energy", "total_mass"] {
+        close(&a[key], &b[key], 1.0, key);
+    }
+    close(
+        &a["mass_matrix"][1][1],
+        &b["mass_matrix"][1][1],
+        1.0,
+        "mass_matrix",
+    );
+    let listed: Vec<&str> = mm["units"]["si"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_str().unwrap())
+        .collect();
+    for key in [
+        "gravity_torque",
+        "mass_matrix",
+        "nle",
+        "rnea",
+        "derivatives",
+        "kinetic_energy",
+    ] {
+        assert!(listed.contains(&key), "{listed:?}");
+    }
+    assert_eq!(mm["units"]["length"], "mm");
+    assert!(si.get("units").is_none());
+    // --help says the same.
+    let help = ok(&kinetree(&["compute", "--help"]));
+    assert!(
+        help.contains("stay SI") && help.contains("deg/s²"),
+        "{help}"
+    );
+}

@@ -41,7 +41,13 @@ with, per sample (vectors in the model's v order, matrices row-major):
                      null when M is singular
   by_joint           gravity_torque, nle, rnea, aba again, keyed by joint name
   errors             why a quantity is null
-  units              with --units mm-deg: {\"length\": \"mm\", \"angle\": \"deg\"}; translations and com in mm
+  units              with --units mm-deg: {\"length\": \"mm\", \"angle\": \"deg\", \"converted\": [...],
+                     \"si\": [...]}: translations, com, collision distances in mm; jacobians'
+                     linear rows in mm/s and angular rows in deg/s per mm/s or deg/s of each
+                     joint coordinate; aba in mm/s² or deg/s². Still SI (listed in \"si\"):
+                     gravity_torque, mass_matrix, total_mass, energies, nle,
+                     centroidal_momentum, rnea, derivatives and their by_joint copies; tau is
+                     read in SI (N·m or N)
   collision          with --collision: [{link_a, link_b, distance}] per candidate pair (m; < 0 = penetration)
 Dynamics are rigid-body (as Pinocchio's) unless --joint-dynamics adds the URDF's damping,
 friction and armature.";
@@ -90,8 +96,11 @@ pub(crate) struct Args {
     /// Drop collision meshes that cannot be found or read (they are listed on stderr).
     #[arg(long)]
     skip_missing_meshes: bool,
-    /// Units of the samples' q, v and a, and of the printed positions (link and frame poses'
-    /// translations, com): `si` (m, rad) or `mm-deg`. Jacobians and the dynamics quantities stay SI.
+    /// Units of the samples' q, v and a and of every output with a length or an angle: `si`
+    /// (m, rad) or `mm-deg`. Under `mm-deg`, poses' translations, com and collision distances
+    /// are in mm, Jacobians in mm and deg per mm or deg of each joint coordinate, aba in mm/s²
+    /// or deg/s²; forces, torques, energies, the mass matrix, momentum and derivatives stay SI
+    /// (listed in the output's `units.si`), and tau is read in SI.
     #[arg(long, value_enum, default_value_t = super::UnitsArg::Si)]
     units: super::UnitsArg,
     /// Write the result here instead of standard output.
@@ -149,7 +158,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     }
     let mut response = serde_json::to_value(&output)?;
     if args.units != super::UnitsArg::Si {
-        positions_from_si(&mut response, args.units);
+        outputs_from_si(&model, &mut response, args.units);
     }
     // A sample's name (any JSON value) is copied to its result.
     for (out, name) in response["samples"]
@@ -178,19 +187,18 @@ pub(crate) fn run(args: &Args) -> Result<()> {
 fn named_to_si(model: &Model, values: &mut NamedValues, velocity: bool, units: super::UnitsArg) {
     let units = units.units();
     for (name, value) in values.iter_mut() {
-        let Some(j) = model.joint_index(name) else {
+        let Some(j) = model.user_joint_index(name) else {
             continue;
         };
-        let kind = model.joint(j).kind;
         let coords = if velocity {
-            kind.v_coordinates()
+            model.user_joint_v_coordinates(j)
         } else {
-            kind.q_coordinates()
+            model.user_joint_q_coordinates(j)
         };
         match value {
             JointValue::Scalar(x) if coords.len() == 1 => *x = coords[0].to_si(*x, units),
             JointValue::Block(xs) if xs.len() == coords.len() => {
-                for (x, c) in xs.iter_mut().zip(coords) {
+                for (x, c) in xs.iter_mut().zip(&coords) {
                     *x = c.to_si(*x, units);
                 }
             }
@@ -199,15 +207,56 @@ fn named_to_si(model: &Model, values: &mut NamedValues, velocity: bool, units: s
     }
 }
 
-/// Scales the positions of a response (poses' translations, `com`) from metres to `units`, and
-/// says which units the response uses.
-fn positions_from_si(response: &mut Value, units: super::UnitsArg) {
+/// The fields of a response that `--units mm-deg` converts, and how.
+pub(crate) const CONVERTED_FIELDS: [&str; 7] = [
+    "link_poses.*.translation (mm)",
+    "frame_poses.*.translation (mm)",
+    "com (mm)",
+    "jacobians (linear rows in mm/s, angular rows in deg/s, per mm/s or deg/s of each joint coordinate)",
+    "aba (mm/s² or deg/s² per coordinate)",
+    "by_joint.aba (the same)",
+    "collision.*.distance (mm)",
+];
+
+/// The fields of a response that stay SI under `--units mm-deg` (forces, torques, energies,
+/// inertias and their derivatives have no millimetre-degree form kinetree writes).
+pub(crate) const SI_FIELDS: [&str; 12] = [
+    "gravity_torque",
+    "mass_matrix",
+    "total_mass",
+    "potential_energy",
+    "nle",
+    "kinetic_energy",
+    "centroidal_momentum",
+    "rnea",
+    "derivatives",
+    "by_joint.gravity_torque",
+    "by_joint.nle",
+    "by_joint.rnea",
+];
+
+/// Converts every length and angle of a response from SI to `units` (see [`CONVERTED_FIELDS`];
+/// [`SI_FIELDS`] are left as they are), and says so in its `units` key.
+fn outputs_from_si(model: &Model, response: &mut Value, units: super::UnitsArg) {
     let units = units.units();
     let scale = units.length.per_meter();
-    let scale_all = |v: &mut Value| {
+    let degrees = kinetree::model::state::Coordinate::Angle.from_si(1.0, units);
+    // SI → units factor of each velocity coordinate (mm per m or deg per rad).
+    let mut per_v = vec![1.0; model.nv()];
+    if model.convert_v(&mut per_v, units, false).is_err() {
+        return;
+    }
+    let scale_all = |v: &mut Value, s: f64| {
         for x in v.as_array_mut().into_iter().flatten() {
             if let Some(f) = x.as_f64() {
-                *x = Value::from(f * scale);
+                *x = Value::from(f * s);
+            }
+        }
+    };
+    let scale_each = |v: &mut Value, s: &[f64]| {
+        for (x, s) in v.as_array_mut().into_iter().flatten().zip(s) {
+            if let Some(f) = x.as_f64() {
+                *x = Value::from(f * s);
             }
         }
     };
@@ -220,18 +269,66 @@ fn positions_from_si(response: &mut Value, units: super::UnitsArg) {
                 .flat_map(|m| m.values_mut())
             {
                 if let Some(t) = pose.get_mut("translation") {
-                    scale_all(t);
+                    scale_all(t, scale);
                 }
             }
         }
         if let Some(com) = sample.get_mut("com") {
-            scale_all(com);
+            scale_all(com, scale);
+        }
+        // J maps joint rates to [linear; angular] rates: row unit over column unit.
+        for jac in sample
+            .get_mut("jacobians")
+            .and_then(Value::as_object_mut)
+            .into_iter()
+            .flat_map(|m| m.values_mut())
+        {
+            for (i, row) in jac.as_array_mut().into_iter().flatten().enumerate() {
+                let out = if i < 3 { scale } else { degrees };
+                let per: Vec<f64> = per_v.iter().map(|c| out / c).collect();
+                scale_each(row, &per);
+            }
+        }
+        if let Some(aba) = sample.get_mut("aba") {
+            scale_each(aba, &per_v);
+        }
+        if let Some(by) = sample.pointer_mut("/by_joint/aba") {
+            for u in model.moving_user_joints() {
+                let name = &model.user_joints()[u].name;
+                let r = model.user_joint_v_range(u);
+                match by.get_mut(name.as_str()) {
+                    Some(x @ Value::Array(_)) => scale_each(x, &per_v[r]),
+                    Some(x) => {
+                        if let Some(f) = x.as_f64() {
+                            *x = Value::from(f * per_v[r.start]);
+                        }
+                    }
+                    None => {}
+                }
+            }
+        }
+        for pair in sample
+            .get_mut("collision")
+            .and_then(Value::as_array_mut)
+            .into_iter()
+            .flatten()
+        {
+            if let Some(d) = pair.get_mut("distance") {
+                if let Some(f) = d.as_f64() {
+                    *d = Value::from(f * scale);
+                }
+            }
         }
     }
     if let Some(obj) = response.as_object_mut() {
         obj.insert(
             "units".into(),
-            serde_json::json!({"length": units.length.as_str(), "angle": units.angle.as_str()}),
+            serde_json::json!({
+                "length": units.length.as_str(),
+                "angle": units.angle.as_str(),
+                "converted": CONVERTED_FIELDS,
+                "si": SI_FIELDS,
+            }),
         );
     }
 }
