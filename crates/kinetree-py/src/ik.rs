@@ -275,12 +275,17 @@ impl PyIkSolver {
                 return Err(F.err(format!("{name} must be finite and not negative, got {x}")));
             }
         }
+        // try_from_secs_f64 refuses what a Duration cannot hold (1e308 s) instead of panicking.
         let time_budget = match time_budget {
             None => None,
-            Some(t) if t.is_finite() && t >= 0.0 => Some(Duration::from_secs_f64(t)),
-            Some(t) => {
-                return Err(F.err(format!("time_budget must be None or seconds >= 0, got {t}")));
-            }
+            Some(t) => match Duration::try_from_secs_f64(t) {
+                Ok(d) => Some(d),
+                Err(_) => {
+                    return Err(F.err(format!(
+                        "time_budget must be None or seconds >= 0 that a duration can hold, got {t:e}"
+                    )));
+                }
+            },
         };
         let params = IkParams {
             position_tolerance,

@@ -443,7 +443,17 @@ impl PyModel {
             ),
         };
         let count = n.unwrap_or(1);
-        let mut out = vec![0.0; count * nq];
+        // Refuse a size that cannot be allocated (n = 10**15) instead of aborting the process.
+        let mut out = Vec::new();
+        count
+            .checked_mul(nq)
+            .filter(|&len| out.try_reserve_exact(len).is_ok())
+            .ok_or_else(|| {
+                Family::Kinematics.err(format!(
+                    "n = {count} configurations of {nq} coordinates do not fit in memory"
+                ))
+            })?;
+        out.resize(count * nq, 0.0);
         for q in out.chunks_mut(nq.max(1)).take(count) {
             configuration::random_configuration(&self.model, &mut rng, &mut q[..nq])
                 .map_err(py_err)?;

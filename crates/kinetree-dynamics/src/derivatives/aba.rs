@@ -125,6 +125,15 @@ fn compute<'d>(
         &mut data.dddq_dq,
         &mut data.dddq_dv,
     );
+    // An overflow (finite inputs, huge lengths or velocities) is an error, never NaN in an Ok.
+    for (what, x) in [
+        ("ddq", &data.ddq),
+        ("dddq_dq", &data.dddq_dq),
+        ("dddq_dv", &data.dddq_dv),
+        ("dddq_dtau", &data.dynamics.mass_matrix_inverse),
+    ] {
+        crate::error::check_output(model, &data.dynamics, what, x)?;
+    }
     Ok(AbaDerivatives {
         ddq: &data.ddq,
         dddq_dq: &data.dddq_dq,
@@ -198,6 +207,19 @@ fn articulated(
     if singular.is_empty() {
         Ok(())
     } else {
+        // A bias force that is not finite is an overflow (huge lengths or velocities), not a
+        // massless subtree.
+        if let Some(i) = (1..model.bodies().len()).find(|&i| !data.articulated_force[i].is_finite())
+        {
+            let dof = model.bodies()[i].idx_v;
+            return Err(crate::error::overflow(
+                model,
+                &data.dynamics,
+                "the articulated bias force",
+                dof,
+                f64::NAN,
+            ));
+        }
         singular.sort_unstable();
         Err(DynamicsError::SingularMassMatrix {
             joints: data.dynamics.joint_names(model, &singular),

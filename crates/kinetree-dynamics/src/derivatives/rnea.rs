@@ -52,6 +52,7 @@ pub fn rnea_derivatives<'d>(
     let mut dq = core::mem::take(&mut data.dtau_dq);
     sweep::<true>(model, data, q, v, a, None, &mut dq);
     data.dtau_dq = dq;
+    check_rnea_outputs(model, data)?;
     Ok(data.rnea_result())
 }
 
@@ -77,6 +78,7 @@ pub fn rnea_derivatives_with_external_forces<'d>(
     let mut dq = core::mem::take(&mut data.dtau_dq);
     sweep::<true>(model, data, q, v, a, Some(fext), &mut dq);
     data.dtau_dq = dq;
+    check_rnea_outputs(model, data)?;
     Ok(data.rnea_result())
 }
 
@@ -96,7 +98,21 @@ pub fn generalized_gravity_derivatives<'d>(
     sweep::<false>(model, data, q, &zeros, &zeros, None, &mut dq);
     data.zeros = zeros;
     data.dg_dq = dq;
+    crate::error::check_output(model, &data.dynamics, "dg_dq", &data.dg_dq)?;
     Ok(&data.dg_dq)
+}
+
+/// An overflow (finite inputs, huge lengths or velocities) is an error, never NaN in an `Ok`.
+fn check_rnea_outputs(model: &Model, data: &DerivativesData) -> Result<(), DynamicsError> {
+    for (what, x) in [
+        ("tau", &data.tau),
+        ("dtau_dq", &data.dtau_dq),
+        ("dtau_dv", &data.dtau_dv),
+        ("dtau_da", &data.dtau_da),
+    ] {
+        crate::error::check_output(model, &data.dynamics, what, x)?;
+    }
+    Ok(())
 }
 
 /// `Bᵀ·s` for the inertia-variation operator `B = [[0, -2[p]×], [0, d]]` of a subtree with

@@ -522,3 +522,48 @@ fn overflow_and_lost_precision_are_never_called_a_massless_subtree() {
         assert!(e.to_string().contains(norm), "{e}");
     }
 }
+
+/// The derivatives report an overflow (finite inputs too large for f64 arithmetic) as an error,
+/// never NaN in an `Ok` (the Python catalogue of hostile inputs found NaN for ±1e308 states of
+/// the Panda, whose fingers slide out to 1e308 m).
+#[test]
+fn derivatives_of_overflowing_states_are_errors_not_nan() {
+    use kinetree_dynamics::{
+        DerivativesData, aba_derivatives, generalized_gravity_derivatives, rnea_derivatives,
+    };
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/data/robots/panda.urdf"
+    );
+    let model = Model::from_urdf_file(path, RootJoint::Fixed).unwrap();
+    let mut data = DerivativesData::new(&model);
+    let nv = model.nv();
+    let zero_q = kinetree_dynamics::kinematics::configuration::neutral_configuration(&model);
+    let zero = vec![0.0; nv];
+    let mut overflows = 0;
+    for huge in [1e308, -1e308] {
+        let (big_q, big) = (vec![huge; model.nq()], vec![huge; nv]);
+        let mut check = |r: Result<Vec<&[f64]>, DynamicsError>| match r {
+            Ok(outputs) => assert!(outputs.iter().all(|x| x.iter().all(|y| y.is_finite()))),
+            Err(DynamicsError::Overflow { .. }) => overflows += 1,
+            Err(e) => panic!("expected an overflow, got {e:?}"),
+        };
+        for (q, v, a) in [
+            (&big_q, &zero, &zero),
+            (&zero_q, &big, &zero),
+            (&zero_q, &zero, &big),
+        ] {
+            check(
+                rnea_derivatives(&model, &mut data, q, v, a)
+                    .map(|d| vec![d.tau, d.dtau_dq, d.dtau_dv, d.dtau_da]),
+            );
+            check(
+                aba_derivatives(&model, &mut data, q, v, a)
+                    .map(|d| vec![d.ddq, d.dddq_dq, d.dddq_dv, d.dddq_dtau]),
+            );
+        }
+        check(generalized_gravity_derivatives(&model, &mut data, &big_q).map(|d| vec![d]));
+    }
+    // The cases Python found (q, v and a at ±1e308 for RNEA, q for gravity, v and τ for ABA).
+    assert!(overflows >= 12, "{overflows} overflows");
+}
