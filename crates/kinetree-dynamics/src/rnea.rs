@@ -6,8 +6,8 @@ use crate::external::ExternalForces;
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::axis::cross_unit;
-use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::{Motion, Se3};
+use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
+use kinetree_kinematics::spatial::{Force, Motion, Se3};
 
 /// Which output buffer a sweep writes.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -201,24 +201,36 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
         };
         let scalar = |s: &[f64]| if s.is_empty() { 0.0 } else { s[b.idx_v] };
         let (qd, qdd) = (scalar(v), scalar(a));
+        // A revolute joint whose placement does not rotate turns about its axis only: its
+        // rotation has four entries that are not 0 or 1 (see `AxisTurn`).
+        let turn = b.placement.rotation == DMat3::IDENTITY;
         let (vi, ai) = match jm {
+            JointModel::RevoluteX if turn => {
+                body::<VEL, ACC, 0, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
+            JointModel::RevoluteY if turn => {
+                body::<VEL, ACC, 1, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
+            JointModel::RevoluteZ if turn => {
+                body::<VEL, ACC, 2, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+            }
             JointModel::RevoluteX => {
-                body::<VEL, ACC, 0, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+                body::<VEL, ACC, 0, true, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
             JointModel::RevoluteY => {
-                body::<VEL, ACC, 1, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+                body::<VEL, ACC, 1, true, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
             JointModel::RevoluteZ => {
-                body::<VEL, ACC, 2, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+                body::<VEL, ACC, 2, true, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
             JointModel::PrismaticX => {
-                body::<VEL, ACC, 0, false>(&x, p, &parent_v, &parent_a, qd, qdd)
+                body::<VEL, ACC, 0, false, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
             JointModel::PrismaticY => {
-                body::<VEL, ACC, 1, false>(&x, p, &parent_v, &parent_a, qd, qdd)
+                body::<VEL, ACC, 1, false, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
             JointModel::PrismaticZ => {
-                body::<VEL, ACC, 2, false>(&x, p, &parent_v, &parent_a, qd, qdd)
+                body::<VEL, ACC, 2, false, false>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
             _ => {
                 let r = b.idx_v..b.idx_v + b.nv;
@@ -272,7 +284,15 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
             None => jm.project_force(&fi, &mut out[b.idx_v..b.idx_v + b.nv]),
         }
         if b.parent != 0 {
-            let fp = parent_from_body[i].act_force(&fi);
+            let x = &parent_from_body[i];
+            let fp = match jm.axis_index() {
+                Some((k, true)) if b.placement.rotation == DMat3::IDENTITY => match k {
+                    0 => AxisTurn::<0>(x).act_force(&fi),
+                    1 => AxisTurn::<1>(x).act_force(&fi),
+                    _ => AxisTurn::<2>(x).act_force(&fi),
+                },
+                _ => x.act_force(&fi),
+            };
             data.force[b.parent] += fp;
         }
     }
@@ -292,8 +312,10 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
 
 /// Velocity and acceleration of a body whose joint is revolute about (`REV`) or prismatic along
 /// its axis `K`, from the parent's (in the parent frame) and the joint rates `qd`, `qdd`.
+/// With `TURN`, `x`'s rotation is about axis `K` only (a revolute joint whose placement does not
+/// rotate) and is applied through [`AxisTurn`].
 #[inline(always)]
-fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool>(
+fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool, const TURN: bool>(
     x: &Se3,
     parent: usize,
     parent_v: &Motion,
@@ -301,7 +323,14 @@ fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool>(
     qd: f64,
     qdd: f64,
 ) -> (Motion, Motion) {
-    let mut ai = x.act_inv_motion(parent_a);
+    let inv = |m: &Motion| {
+        if TURN {
+            AxisTurn::<K>(x).act_inv_motion(m)
+        } else {
+            x.act_inv_motion(m)
+        }
+    };
+    let mut ai = inv(parent_a);
     if ACC {
         if REV {
             ai.angular[K] += qdd;
@@ -312,7 +341,7 @@ fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool>(
     let mut vi = Motion::ZERO;
     if VEL {
         if parent != 0 {
-            vi = x.act_inv_motion(parent_v);
+            vi = inv(parent_v);
         }
         // a += v ×ₘ vj, with vj = qd·e_K (angular or linear); exactly zero when v = vj.
         if REV {
@@ -325,4 +354,121 @@ fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool>(
         }
     }
     (vi, ai)
+}
+
+/// A transform whose rotation turns about coordinate axis `K` only (its `K` column and row are
+/// `e_K`): the motion and force kernels with the products by those 0 and 1 entries left out.
+/// The same numbers as [`Se3::act_inv_motion`] and [`Se3::act_force`] (adding a product by 0
+/// changes nothing).
+struct AxisTurn<'a, const K: usize>(&'a Se3);
+
+impl<const K: usize> AxisTurn<'_, K> {
+    /// `R·u`.
+    #[inline(always)]
+    fn rotate(&self, u: DVec3) -> DVec3 {
+        let r = &self.0.rotation;
+        match K {
+            0 => DVec3::new(
+                u.x,
+                r.y_axis.y * u.y + r.z_axis.y * u.z,
+                r.y_axis.z * u.y + r.z_axis.z * u.z,
+            ),
+            1 => DVec3::new(
+                r.x_axis.x * u.x + r.z_axis.x * u.z,
+                u.y,
+                r.x_axis.z * u.x + r.z_axis.z * u.z,
+            ),
+            _ => DVec3::new(
+                r.x_axis.x * u.x + r.y_axis.x * u.y,
+                r.x_axis.y * u.x + r.y_axis.y * u.y,
+                u.z,
+            ),
+        }
+    }
+
+    /// `Rᵀ·u`.
+    #[inline(always)]
+    fn inverse_rotate(&self, u: DVec3) -> DVec3 {
+        let r = &self.0.rotation;
+        match K {
+            0 => DVec3::new(
+                u.x,
+                r.y_axis.y * u.y + r.y_axis.z * u.z,
+                r.z_axis.y * u.y + r.z_axis.z * u.z,
+            ),
+            1 => DVec3::new(
+                r.x_axis.x * u.x + r.x_axis.z * u.z,
+                u.y,
+                r.z_axis.x * u.x + r.z_axis.z * u.z,
+            ),
+            _ => DVec3::new(
+                r.x_axis.x * u.x + r.x_axis.y * u.y,
+                r.y_axis.x * u.x + r.y_axis.y * u.y,
+                u.z,
+            ),
+        }
+    }
+
+    /// [`Se3::act_inv_motion`].
+    #[inline(always)]
+    fn act_inv_motion(&self, m: &Motion) -> Motion {
+        Motion::new(
+            self.inverse_rotate(m.linear - self.0.translation.cross(m.angular)),
+            self.inverse_rotate(m.angular),
+        )
+    }
+
+    /// [`Se3::act_force`].
+    #[inline(always)]
+    fn act_force(&self, f: &Force) -> Force {
+        let lin = self.rotate(f.linear);
+        Force::new(lin, self.rotate(f.angular) + self.0.translation.cross(lin))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_turns_match_the_full_kernels() {
+        let m = Motion::from_array([-0.4, 0.9, 0.2, 0.6, -0.3, 1.1]);
+        let f = Force::from_array([0.3, -1.2, 0.5, 2.0, -0.1, 0.7]);
+        let t = DVec3::new(0.1, -0.2, 0.3);
+        for theta in [-2.5, -0.3, 0.0, 0.7, 3.0] {
+            let x = Se3::new(Se3::from_rotation_x(theta).rotation, t);
+            assert!(
+                AxisTurn::<0>(&x)
+                    .act_inv_motion(&m)
+                    .abs_diff_eq(&x.act_inv_motion(&m), 1e-15)
+            );
+            assert!(
+                AxisTurn::<0>(&x)
+                    .act_force(&f)
+                    .abs_diff_eq(&x.act_force(&f), 1e-15)
+            );
+            let x = Se3::new(Se3::from_rotation_y(theta).rotation, t);
+            assert!(
+                AxisTurn::<1>(&x)
+                    .act_inv_motion(&m)
+                    .abs_diff_eq(&x.act_inv_motion(&m), 1e-15)
+            );
+            assert!(
+                AxisTurn::<1>(&x)
+                    .act_force(&f)
+                    .abs_diff_eq(&x.act_force(&f), 1e-15)
+            );
+            let x = Se3::new(Se3::from_rotation_z(theta).rotation, t);
+            assert!(
+                AxisTurn::<2>(&x)
+                    .act_inv_motion(&m)
+                    .abs_diff_eq(&x.act_inv_motion(&m), 1e-15)
+            );
+            assert!(
+                AxisTurn::<2>(&x)
+                    .act_force(&f)
+                    .abs_diff_eq(&x.act_force(&f), 1e-15)
+            );
+        }
+    }
 }
