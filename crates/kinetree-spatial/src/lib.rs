@@ -51,6 +51,7 @@
 pub mod axis;
 pub mod explog;
 mod inertia;
+pub mod lanes;
 mod motion;
 mod origin_inertia;
 mod readable;

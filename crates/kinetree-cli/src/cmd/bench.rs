@@ -15,6 +15,7 @@
 //! `fk` also places every link, so it has no Pinocchio twin (Pinocchio's `fk` places the joints
 //! only); its `fk_frames` is Pinocchio's `fk+frames`.
 //! Velocities, accelerations and torques are drawn uniformly in [-1, 1].
+//! `--batch N` times the batched entry points instead (`bench_batch.rs`).
 
 use anyhow::Result;
 use kinetree::dynamics::{
@@ -44,16 +45,16 @@ pub(crate) struct Args {
     floating: bool,
     /// Calls per timed repetition.
     #[arg(long, default_value_t = 100_000)]
-    calls: usize,
+    pub(crate) calls: usize,
     /// Timed repetitions (the median is reported).
     #[arg(long, default_value_t = 7)]
-    repetitions: usize,
+    pub(crate) repetitions: usize,
     /// Seed of the random states.
     #[arg(long, default_value_t = 42)]
-    seed: u64,
+    pub(crate) seed: u64,
     /// Print one JSON object instead of a table.
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
     /// A directory where collision meshes are looked up (`package://` and relative names) after
     /// the model file's directory, as in `collide`; repeatable.
     #[arg(long = "mesh-path")]
@@ -61,6 +62,13 @@ pub(crate) struct Args {
     /// Run even when --calls × (--repetitions + 1) exceeds the limit of 10⁹ calls per algorithm.
     #[arg(long)]
     no_limit: bool,
+    /// Time the batched entry points on batches of this many states instead (ns/state beside
+    /// the one-state path; `--calls` is then the states per repetition).
+    #[arg(long, value_name = "N")]
+    pub(crate) batch: Option<usize>,
+    /// Threads of the parallel batched timings (default: every core).
+    #[arg(long, value_name = "T")]
+    pub(crate) threads: Option<usize>,
 }
 
 /// kinetree's timings that time the same work as a case of Pinocchio's anchor benchmark, with
@@ -186,7 +194,7 @@ impl Timings {
 }
 
 /// The link farthest from the root (most joints on its path): the frame whose Jacobian is timed.
-fn deepest_link(model: &Model) -> usize {
+pub(crate) fn deepest_link(model: &Model) -> usize {
     (0..model.links().len())
         .max_by_key(|&l| model.path_to_root(l).len())
         .unwrap_or(0)
@@ -201,6 +209,9 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             "model '{}' has no moving joint (nv = 0): there is nothing to time",
             model.name()
         );
+    }
+    if let Some(n) = args.batch {
+        return super::bench_batch::run(args, &model, n);
     }
     let mut rng = rand::rngs::SmallRng::seed_from_u64(args.seed);
     let states: Vec<Vec<f64>> = (0..1000)

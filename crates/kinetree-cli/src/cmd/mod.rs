@@ -1,6 +1,7 @@
 //! The commands, one module each, and what they share: loading a model from a path.
 
 pub(crate) mod bench;
+pub(crate) mod bench_batch;
 pub(crate) mod codegen;
 pub(crate) mod collide;
 pub(crate) mod compute;

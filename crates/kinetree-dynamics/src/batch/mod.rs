@@ -8,7 +8,9 @@
 //! [`crba`](crate::crba) to rounding (the tests hold them to 1e-14 relative on every reference
 //! robot).
 //!
-//! For all cores, `kinetree::parallel` splits a batch over a rayon pool with the same
+//! RNEA runs on blocks of states in SIMD lanes (see
+//! [`kinetree_kinematics::batch::Simd`]); ABA and CRBA loop over the one-state functions for
+//! now. For all cores, `kinetree::parallel` splits a batch over a rayon pool with the same
 //! signatures.
 //!
 //! # Examples
@@ -30,17 +32,26 @@
 //! # }
 //! ```
 
+mod rnea;
+
 use crate::data::{DynamicsData, JointTerms};
 use crate::error::DynamicsError;
-use kinetree_kinematics::batch::batch_size;
+use crate::rnea::check_inputs;
+use kinetree_kinematics::batch::{Simd, batch_size};
 use kinetree_kinematics::model::Model;
+use rnea::RneaLanes;
 
 /// The buffers of the batched dynamics for one [`Model`] (see the [module](self) docs).
 ///
 /// Create it once per model (and per thread); the batched functions allocate nothing afterwards.
 #[derive(Clone, Debug)]
 pub struct DynamicsBatch {
+    simd: Simd,
+    /// One-state data: the joint models and terms, the model check, and the error of a bad
+    /// state.
     data: DynamicsData,
+    rnea4: RneaLanes<4>,
+    rnea8: RneaLanes<8>,
 }
 
 impl DynamicsBatch {
@@ -55,9 +66,36 @@ impl DynamicsBatch {
     /// armature enter the dynamics (as [`DynamicsData::with_joint_terms`]).
     #[must_use]
     pub fn with_joint_terms(model: &Model, joint_terms: JointTerms) -> Self {
+        Self::with_options(model, joint_terms, Simd::detect())
+    }
+
+    /// Allocates every buffer for `model`, with the joint terms `joint_terms`, for the
+    /// instruction set `simd` (or the widest one below it that this CPU has). The results do
+    /// not depend on `simd`.
+    #[must_use]
+    pub fn with_options(model: &Model, joint_terms: JointTerms, simd: Simd) -> Self {
+        let simd = simd.or_available();
+        let wide = simd.lanes() == 8;
         Self {
+            simd,
             data: DynamicsData::with_joint_terms(model, joint_terms),
+            rnea4: if wide {
+                RneaLanes::default()
+            } else {
+                RneaLanes::new(model)
+            },
+            rnea8: if wide {
+                RneaLanes::new(model)
+            } else {
+                RneaLanes::default()
+            },
         }
+    }
+
+    /// The instruction set the sweeps run with.
+    #[must_use]
+    pub fn simd(&self) -> Simd {
+        self.simd
     }
 }
 
@@ -127,17 +165,53 @@ pub fn rnea_batch(
     check_buffer("a", a.len(), n, nv)?;
     check_buffer("tau", tau.len(), n, nv)?;
     for k in 0..n {
-        let out = crate::rnea(
+        let r = k * nv..(k + 1) * nv;
+        check_inputs(
+            model,
+            &batch.data,
+            &q[k * nq..(k + 1) * nq],
+            Some(&v[r.clone()]),
+            Some(&a[r]),
+        )
+        .map_err(in_state(k))?;
+    }
+    let data = &batch.data;
+    kinetree_kinematics::simd_dispatch!(
+        batch.simd, RneaLanes, &mut batch.rnea4, &mut batch.rnea8, rnea_kernel,
+        (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, v: &[f64] = v,
+         a: &[f64] = a, n: usize = n, tau: &mut [f64] = tau) -> ()
+    );
+    if let Some(i) = tau.iter().position(|x| !x.is_finite()) {
+        // The one-state function names the joint that overflowed.
+        let (k, r) = (i / nv, (i / nv) * nv..(i / nv + 1) * nv);
+        crate::rnea(
             model,
             &mut batch.data,
             &q[k * nq..(k + 1) * nq],
-            &v[k * nv..(k + 1) * nv],
-            &a[k * nv..(k + 1) * nv],
+            &v[r.clone()],
+            &a[r],
         )
         .map_err(in_state(k))?;
-        tau[k * nv..(k + 1) * nv].copy_from_slice(out);
     }
     Ok(())
+}
+
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the kernel's inputs, passed through"
+)]
+fn rnea_kernel<const L: usize>(
+    bufs: &mut RneaLanes<L>,
+    model: &Model,
+    data: &DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    n: usize,
+    tau: &mut [f64],
+) {
+    rnea::rnea(bufs, model, data, q, v, a, n, tau);
 }
 
 /// Forward dynamics of `N` states: `ddq` (`N · nv`) receives the accelerations

@@ -5,7 +5,7 @@
 use crate::common::{all_models, random_state, rng};
 use kinetree_dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
 use kinetree_dynamics::kinematics::batch::{
-    KinematicsBatch, forward_kinematics_batch, frame_jacobian_batch,
+    KinematicsBatch, Simd, forward_kinematics_batch, frame_jacobian_batch,
 };
 use kinetree_dynamics::kinematics::{
     KinematicsData, KinematicsError, compute_frame_jacobian, forward_kinematics,
@@ -13,7 +13,9 @@ use kinetree_dynamics::kinematics::{
 };
 use kinetree_dynamics::model::Model;
 use kinetree_dynamics::spatial::{Motion, Se3};
-use kinetree_dynamics::{DynamicsData, DynamicsError, FrameId, ReferenceFrame, aba, crba, rnea};
+use kinetree_dynamics::{
+    DynamicsData, DynamicsError, FrameId, JointTerms, ReferenceFrame, aba, crba, rnea,
+};
 
 /// Relative agreement required of every batched result with the one-state one.
 const TOL: f64 = 1e-14;
@@ -59,6 +61,9 @@ fn motion_numbers(xs: &[Motion]) -> Vec<f64> {
     xs.iter().flat_map(Motion::to_array).collect()
 }
 
+/// Every instruction set (those this CPU lacks fall back to one it has).
+const SIMD: [Simd; 3] = [Simd::Portable, Simd::Avx2, Simd::Avx512];
+
 /// Batch sizes: one state, lane widths and their neighbours, and a size no lane width divides.
 const SIZES: [usize; 5] = [1, 4, 8, 9, 19];
 
@@ -71,59 +76,63 @@ fn batched_kinematics_equals_the_one_state_path() {
             model.links().len(),
             model.frames().len(),
         );
-        let mut batch = KinematicsBatch::new(&model);
-        let mut data = KinematicsData::new(&model);
-        let mut column = vec![Motion::ZERO; nv];
-        let targets = [FrameId::Link(nl - 1), FrameId::Link(nl / 2)]
-            .into_iter()
-            .chain((nf > 0).then(|| FrameId::Frame(nf - 1)));
-        let targets: Vec<FrameId> = targets.collect();
-        for n in SIZES {
-            let (q, _, _) = states(&model, n, 11 + n as u64);
-            let mut links = vec![Se3::IDENTITY; n * nl];
-            let mut frames = vec![Se3::IDENTITY; n * nf];
-            forward_kinematics_batch(&model, &mut batch, &q, &mut links, Some(&mut frames))
-                .unwrap();
-            for k in 0..n {
-                forward_kinematics(&model, &mut data, &q[k * nq..(k + 1) * nq]).unwrap();
-                update_frame_placements(&model, &mut data).unwrap();
-                let what = format!("{name} n={n} state {k}");
-                assert_rel(
-                    &se3_numbers(&links[k * nl..(k + 1) * nl]),
-                    &se3_numbers(data.world_from_link()),
-                    &format!("{what} links"),
-                );
-                assert_rel(
-                    &se3_numbers(&frames[k * nf..(k + 1) * nf]),
-                    &se3_numbers(data.world_from_frame()),
-                    &format!("{what} frames"),
-                );
-            }
-            for &frame in &targets {
-                for reference in [
-                    ReferenceFrame::World,
-                    ReferenceFrame::Local,
-                    ReferenceFrame::LocalWorldAligned,
-                ] {
-                    let mut jac = vec![Motion::ZERO; n * nv];
-                    frame_jacobian_batch(&model, &mut batch, &q, frame, reference, &mut jac)
-                        .unwrap();
-                    for k in 0..n {
-                        let qk = &q[k * nq..(k + 1) * nq];
-                        compute_frame_jacobian(
-                            &model,
-                            &mut data,
-                            qk,
-                            frame,
-                            reference,
-                            &mut column,
-                        )
-                        .unwrap();
-                        assert_rel(
-                            &motion_numbers(&jac[k * nv..(k + 1) * nv]),
-                            &motion_numbers(&column),
-                            &format!("{name} n={n} state {k} jacobian {frame:?} {reference:?}"),
-                        );
+        for simd in SIMD {
+            let mut batch = KinematicsBatch::with_simd(&model, simd);
+            let mut data = KinematicsData::new(&model);
+            let mut column = vec![Motion::ZERO; nv];
+            let targets = [FrameId::Link(nl - 1), FrameId::Link(nl / 2)]
+                .into_iter()
+                .chain((nf > 0).then(|| FrameId::Frame(nf - 1)));
+            let targets: Vec<FrameId> = targets.collect();
+            for n in SIZES {
+                let (q, _, _) = states(&model, n, 11 + n as u64);
+                let mut links = vec![Se3::IDENTITY; n * nl];
+                let mut frames = vec![Se3::IDENTITY; n * nf];
+                forward_kinematics_batch(&model, &mut batch, &q, &mut links, Some(&mut frames))
+                    .unwrap();
+                for k in 0..n {
+                    forward_kinematics(&model, &mut data, &q[k * nq..(k + 1) * nq]).unwrap();
+                    update_frame_placements(&model, &mut data).unwrap();
+                    let what = format!("{name} {simd:?} n={n} state {k}");
+                    assert_rel(
+                        &se3_numbers(&links[k * nl..(k + 1) * nl]),
+                        &se3_numbers(data.world_from_link()),
+                        &format!("{what} links"),
+                    );
+                    assert_rel(
+                        &se3_numbers(&frames[k * nf..(k + 1) * nf]),
+                        &se3_numbers(data.world_from_frame()),
+                        &format!("{what} frames"),
+                    );
+                }
+                for &frame in &targets {
+                    for reference in [
+                        ReferenceFrame::World,
+                        ReferenceFrame::Local,
+                        ReferenceFrame::LocalWorldAligned,
+                    ] {
+                        let mut jac = vec![Motion::ZERO; n * nv];
+                        frame_jacobian_batch(&model, &mut batch, &q, frame, reference, &mut jac)
+                            .unwrap();
+                        for k in 0..n {
+                            let qk = &q[k * nq..(k + 1) * nq];
+                            compute_frame_jacobian(
+                                &model,
+                                &mut data,
+                                qk,
+                                frame,
+                                reference,
+                                &mut column,
+                            )
+                            .unwrap();
+                            assert_rel(
+                                &motion_numbers(&jac[k * nv..(k + 1) * nv]),
+                                &motion_numbers(&column),
+                                &format!(
+                                    "{name} {simd:?} n={n} state {k} jacobian {frame:?} {reference:?}"
+                                ),
+                            );
+                        }
                     }
                 }
             }
@@ -135,34 +144,56 @@ fn batched_kinematics_equals_the_one_state_path() {
 fn batched_dynamics_equals_the_one_state_path() {
     for (name, model) in all_models() {
         let (nq, nv) = (model.nq(), model.nv());
-        let mut batch = DynamicsBatch::new(&model);
-        let mut data = DynamicsData::new(&model);
-        for n in SIZES {
-            let (q, v, a) = states(&model, n, 23 + n as u64);
-            let mut tau = vec![0.0; n * nv];
-            rnea_batch(&model, &mut batch, &q, &v, &a, &mut tau).unwrap();
-            let mut ddq = vec![0.0; n * nv];
-            aba_batch(&model, &mut batch, &q, &v, &tau, &mut ddq).unwrap();
-            let mut mass = vec![0.0; n * nv * nv];
-            crba_batch(&model, &mut batch, &q, &mut mass).unwrap();
-            for k in 0..n {
-                let (qk, vk, ak) = (
-                    &q[k * nq..(k + 1) * nq],
-                    &v[k * nv..(k + 1) * nv],
-                    &a[k * nv..(k + 1) * nv],
-                );
-                let what = format!("{name} n={n} state {k}");
-                let t = rnea(&model, &mut data, qk, vk, ak).unwrap().to_vec();
-                assert_rel(&tau[k * nv..(k + 1) * nv], &t, &format!("{what} rnea"));
-                let d = aba(&model, &mut data, qk, vk, &t).unwrap();
-                assert_rel(&ddq[k * nv..(k + 1) * nv], d, &format!("{what} aba"));
-                // And the round trip closes: ABA of RNEA's torques gives back a.
-                for (x, y) in d.iter().zip(ak) {
-                    assert!((x - y).abs() < 1e-6 * (1.0 + y.abs()), "{what} aba∘rnea");
+        for simd in SIMD {
+            let mut batch = DynamicsBatch::with_options(&model, JointTerms::Ignored, simd);
+            let mut terms = DynamicsBatch::with_options(&model, JointTerms::FromModel, simd);
+            let mut data = DynamicsData::new(&model);
+            let mut data_terms = DynamicsData::with_joint_terms(&model, JointTerms::FromModel);
+            for n in SIZES {
+                let (q, v, a) = states(&model, n, 23 + n as u64);
+                let mut tau = vec![0.0; n * nv];
+                rnea_batch(&model, &mut batch, &q, &v, &a, &mut tau).unwrap();
+                let mut ddq = vec![0.0; n * nv];
+                aba_batch(&model, &mut batch, &q, &v, &tau, &mut ddq).unwrap();
+                let mut mass = vec![0.0; n * nv * nv];
+                crba_batch(&model, &mut batch, &q, &mut mass).unwrap();
+                for k in 0..n {
+                    let (qk, vk, ak) = (
+                        &q[k * nq..(k + 1) * nq],
+                        &v[k * nv..(k + 1) * nv],
+                        &a[k * nv..(k + 1) * nv],
+                    );
+                    let what = format!("{name} {simd:?} n={n} state {k}");
+                    let t = rnea(&model, &mut data, qk, vk, ak).unwrap().to_vec();
+                    assert_rel(&tau[k * nv..(k + 1) * nv], &t, &format!("{what} rnea"));
+                    let d = aba(&model, &mut data, qk, vk, &t).unwrap();
+                    assert_rel(&ddq[k * nv..(k + 1) * nv], d, &format!("{what} aba"));
+                    // And the round trip closes: ABA of RNEA's torques gives back a.
+                    for (x, y) in d.iter().zip(ak) {
+                        assert!((x - y).abs() < 1e-6 * (1.0 + y.abs()), "{what} aba∘rnea");
+                    }
+                    let m = crba(&model, &mut data, qk).unwrap();
+                    let nn = nv * nv;
+                    assert_rel(&mass[k * nn..(k + 1) * nn], m, &format!("{what} crba"));
                 }
-                let m = crba(&model, &mut data, qk).unwrap();
-                let nn = nv * nv;
-                assert_rel(&mass[k * nn..(k + 1) * nn], m, &format!("{what} crba"));
+                // With the joints' armature, damping and friction.
+                rnea_batch(&model, &mut terms, &q, &v, &a, &mut tau).unwrap();
+                for k in 0..n {
+                    let r = k * nv..(k + 1) * nv;
+                    let t = rnea(
+                        &model,
+                        &mut data_terms,
+                        &q[k * nq..(k + 1) * nq],
+                        &v[r.clone()],
+                        &a[r.clone()],
+                    )
+                    .unwrap();
+                    assert_rel(
+                        &tau[r],
+                        t,
+                        &format!("{name} {simd:?} n={n} state {k} rnea with joint terms"),
+                    );
+                }
             }
         }
     }

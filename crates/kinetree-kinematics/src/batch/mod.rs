@@ -32,30 +32,74 @@
 //! # }
 //! ```
 
+mod simd;
+mod sweep;
+
+pub use simd::Simd;
+#[doc(hidden)]
+pub use simd::{block_states, body_transform, gather};
+
 use crate::data::{FrameId, KinematicsData};
-use crate::error::KinematicsError;
+use crate::error::{KinematicsError, check_q};
 use crate::jacobian::ReferenceFrame;
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
+use sweep::{LaneBuffers, Shape};
 
 /// The buffers of the batched kinematics for one [`Model`] (see the [module](self) docs).
 ///
 /// Create it once per model (and per thread); the batched functions allocate nothing afterwards.
 #[derive(Clone, Debug)]
 pub struct KinematicsBatch {
+    simd: Simd,
+    /// One-state data: the joint models, the model check, and the error of a bad state.
     data: KinematicsData,
     jacobian: Vec<Motion>,
+    lanes4: LaneBuffers<4>,
+    lanes8: LaneBuffers<8>,
 }
 
 impl KinematicsBatch {
-    /// Allocates every buffer for `model`.
+    /// Allocates every buffer for `model`, for the widest instruction set of this CPU
+    /// ([`Simd::detect`]).
     #[must_use]
     pub fn new(model: &Model) -> Self {
+        Self::with_simd(model, Simd::detect())
+    }
+
+    /// Allocates every buffer for `model`, for the instruction set `simd` (or the widest one
+    /// below it that this CPU has). The results do not depend on it.
+    #[must_use]
+    pub fn with_simd(model: &Model, simd: Simd) -> Self {
+        let simd = simd.or_available();
+        let (lanes4, lanes8) = if simd.lanes() == 8 {
+            (LaneBuffers::default(), LaneBuffers::new(model))
+        } else {
+            (LaneBuffers::new(model), LaneBuffers::default())
+        };
         Self {
+            simd,
             data: KinematicsData::new(model),
             jacobian: vec![Motion::ZERO; model.nv()],
+            lanes4,
+            lanes8,
         }
     }
+
+    /// The instruction set the sweeps run with.
+    #[must_use]
+    pub fn simd(&self) -> Simd {
+        self.simd
+    }
+}
+
+/// Checks every configuration of a batch (finite, unit quaternions).
+fn check_states(model: &Model, q: &[f64], n: usize) -> Result<(), KinematicsError> {
+    let nq = model.nq();
+    for k in 0..n {
+        check_q(model, "q", &q[k * nq..(k + 1) * nq]).map_err(in_state(k))?;
+    }
+    Ok(())
 }
 
 /// The number of states in a batch of `len` numbers of `per_state` each.
@@ -159,19 +203,50 @@ pub fn forward_kinematics_batch(
     if let Some(frames) = &world_from_frame {
         check_buffer("world_from_frame", frames.len(), n, nf)?;
     }
-    let nq = model.nq();
-    let data = &mut batch.data;
-    let mut frames = world_from_frame;
-    for k in 0..n {
-        let qk = &q[k * nq..(k + 1) * nq];
-        crate::forward_kinematics(model, data, qk).map_err(in_state(k))?;
-        world_from_link[k * nl..(k + 1) * nl].copy_from_slice(data.world_from_link());
-        if let Some(frames) = frames.as_deref_mut() {
-            crate::update_frame_placements(model, data)?;
-            frames[k * nf..(k + 1) * nf].copy_from_slice(data.world_from_frame());
-        }
+    check_states(model, q, n)?;
+    let shape = Shape {
+        model,
+        joint_models: &batch.data.joint_models,
+        link_on_body_frame: &batch.data.link_on_body_frame,
+    };
+    let frames = world_from_frame;
+    crate::simd_dispatch!(
+        batch.simd, LaneBuffers, &mut batch.lanes4, &mut batch.lanes8, fk_kernel,
+        (shape: &Shape<'_> = &shape, q: &[f64] = q, n: usize = n,
+         links: &mut [Se3] = world_from_link, frames: Option<&mut [Se3]> = frames) -> ()
+    );
+    if let Some(k) = sweep::first_non_finite(world_from_link, nl) {
+        // The one-state function names the body that overflowed.
+        let nq = model.nq();
+        crate::forward_kinematics(model, &mut batch.data, &q[k * nq..(k + 1) * nq])
+            .map_err(in_state(k))?;
     }
     Ok(())
+}
+
+#[inline(always)]
+fn fk_kernel<const L: usize>(
+    bufs: &mut LaneBuffers<L>,
+    shape: &Shape<'_>,
+    q: &[f64],
+    n: usize,
+    links: &mut [Se3],
+    frames: Option<&mut [Se3]>,
+) {
+    sweep::forward_kinematics(bufs, shape, q, n, links, frames);
+}
+
+#[inline(always)]
+fn jacobian_kernel<const L: usize>(
+    bufs: &mut LaneBuffers<L>,
+    shape: &Shape<'_>,
+    q: &[f64],
+    n: usize,
+    target: (usize, Se3),
+    reference: ReferenceFrame,
+    out: &mut [Motion],
+) {
+    sweep::frame_jacobian(bufs, shape, q, n, target, reference, out);
 }
 
 /// The Jacobian of one link or frame in `N` states.
@@ -197,19 +272,34 @@ pub fn frame_jacobian_batch(
     frame.check(model)?;
     let nv = model.nv();
     let n = states(model, q, "jacobian", out.len(), nv)?;
-    let nq = model.nq();
-    for k in 0..n {
-        let qk = &q[k * nq..(k + 1) * nq];
+    check_states(model, q, n)?;
+    let target = frame.body(model)?;
+    let shape = Shape {
+        model,
+        joint_models: &batch.data.joint_models,
+        link_on_body_frame: &batch.data.link_on_body_frame,
+    };
+    crate::simd_dispatch!(
+        batch.simd, LaneBuffers, &mut batch.lanes4, &mut batch.lanes8, jacobian_kernel,
+        (shape: &Shape<'_> = &shape, q: &[f64] = q, n: usize = n, target: (usize, Se3) = target,
+         reference: ReferenceFrame = reference, out: &mut [Motion] = out) -> ()
+    );
+    if let Some(c) = out.iter().position(|m| !m.is_finite()) {
+        // The one-state function names the body that overflowed.
+        let (k, nq) = (c / nv.max(1), model.nq());
         crate::compute_frame_jacobian(
             model,
             &mut batch.data,
-            qk,
+            &q[k * nq..(k + 1) * nq],
             frame,
             reference,
             &mut batch.jacobian,
         )
         .map_err(in_state(k))?;
-        out[k * nv..(k + 1) * nv].copy_from_slice(&batch.jacobian);
+        return Err(in_state(k)(KinematicsError::Overflow {
+            what: "jacobian",
+            body: frame.name(model)?.to_string(),
+        }));
     }
     Ok(())
 }

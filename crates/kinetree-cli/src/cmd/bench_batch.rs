@@ -1,0 +1,281 @@
+//! `kinetree bench --batch N`: ns/state of each batched algorithm beside the one-state path.
+//!
+//! Each algorithm evaluates the same `N` random states three ways: the one-state function in a
+//! loop, the batched entry point on one core (vectorised across states), and
+//! `kinetree::parallel` on every thread of the pool (`--threads`, default all cores). Each
+//! repetition runs whole batches for at least `--calls` states; the median ns/state is
+//! printed. With `--json`:
+//! `{"model", "nq", "nv", "batch", "threads", "simd", "ns_per_state": {"fk": {"single",
+//! "batched", "parallel"}, …}}` with the keys `fk`, `fk_frames`, `frame_jacobian`, `rnea`,
+//! `aba`, `crba`.
+
+use anyhow::Result;
+use kinetree::dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
+use kinetree::dynamics::{DynamicsData, aba, crba, rnea};
+use kinetree::kinematics::batch::{
+    KinematicsBatch, forward_kinematics_batch, frame_jacobian_batch,
+};
+use kinetree::kinematics::spatial::{Motion, Se3};
+use kinetree::kinematics::{
+    FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, forward_kinematics,
+    update_frame_placements,
+};
+use kinetree::model::Model;
+use kinetree::parallel::{self as par, Parallel};
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Median ns/state of `f()` (one whole batch of `n` states per call) over `reps` repetitions of
+/// enough calls for `states` states, after a warm-up repetition.
+fn time(n: usize, states: usize, reps: usize, mut f: impl FnMut()) -> f64 {
+    let calls = states.div_ceil(n).max(1);
+    for _ in 0..calls {
+        f();
+    }
+    let mut per_state: Vec<f64> = (0..reps.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            for _ in 0..calls {
+                f();
+            }
+            start.elapsed().as_secs_f64() * 1e9 / (calls * n) as f64
+        })
+        .collect();
+    per_state.sort_by(f64::total_cmp);
+    per_state[per_state.len() / 2]
+}
+
+/// The states and sizes of a run.
+pub(crate) struct Setup<'a> {
+    pub(crate) model: &'a Model,
+    /// `n · nq` configurations.
+    pub(crate) q: Vec<f64>,
+    /// `n · nv` velocities.
+    pub(crate) v: Vec<f64>,
+    /// `n · nv` accelerations or torques.
+    pub(crate) a: Vec<f64>,
+    pub(crate) n: usize,
+    pub(crate) states: usize,
+    pub(crate) reps: usize,
+    pub(crate) frame: FrameId,
+}
+
+/// One row: an algorithm's ns/state one state at a time, batched on one core, and batched on
+/// every thread.
+pub(crate) struct Row {
+    pub(crate) name: &'static str,
+    pub(crate) single: f64,
+    pub(crate) batched: f64,
+    pub(crate) parallel: f64,
+}
+
+/// Times every batched algorithm (rayon's current pool decides the threads).
+pub(crate) fn rows(s: &Setup<'_>) -> Vec<Row> {
+    let model = s.model;
+    let (n, nq, nv, nl, nf) = (
+        s.n,
+        model.nq(),
+        model.nv(),
+        model.links().len(),
+        model.frames().len(),
+    );
+    let (q, v, a) = (&s.q[..], &s.v[..], &s.a[..]);
+    let t = |f: &mut dyn FnMut()| time(n, s.states, s.reps, f);
+    let qk = |k: usize| &q[k * nq..(k + 1) * nq];
+    let mut data = KinematicsData::new(model);
+    let mut kb = KinematicsBatch::new(model);
+    let mut pk = Parallel::<KinematicsBatch>::new(model);
+    let mut links = vec![Se3::IDENTITY; n * nl];
+    let mut frames = vec![Se3::IDENTITY; n * nf];
+    let mut jac = vec![Motion::ZERO; n * nv];
+    let mut one_jac = vec![Motion::ZERO; nv];
+    let lwa = ReferenceFrame::LocalWorldAligned;
+    let frame = s.frame;
+    let mut rows = Vec::new();
+    rows.push(Row {
+        name: "fk",
+        single: t(&mut || {
+            for k in 0..n {
+                let _ = forward_kinematics(model, &mut data, black_box(qk(k)));
+                black_box(&data);
+            }
+        }),
+        batched: t(&mut || {
+            let _ = forward_kinematics_batch(model, &mut kb, black_box(q), &mut links, None);
+            black_box(&links);
+        }),
+        parallel: t(&mut || {
+            let _ = par::forward_kinematics_batch(model, &mut pk, black_box(q), &mut links, None);
+            black_box(&links);
+        }),
+    });
+    rows.push(Row {
+        name: "fk_frames",
+        single: t(&mut || {
+            for k in 0..n {
+                let _ = forward_kinematics(model, &mut data, black_box(qk(k)));
+                let _ = update_frame_placements(model, &mut data);
+                black_box(&data);
+            }
+        }),
+        batched: t(&mut || {
+            let _ = forward_kinematics_batch(model, &mut kb, q, &mut links, Some(&mut frames));
+            black_box(&frames);
+        }),
+        parallel: t(&mut || {
+            let _ = par::forward_kinematics_batch(model, &mut pk, q, &mut links, Some(&mut frames));
+            black_box(&frames);
+        }),
+    });
+    rows.push(Row {
+        name: "frame_jacobian",
+        single: t(&mut || {
+            for k in 0..n {
+                let _ = compute_frame_jacobian(model, &mut data, qk(k), frame, lwa, &mut one_jac);
+                black_box(&one_jac);
+            }
+        }),
+        batched: t(&mut || {
+            let _ = frame_jacobian_batch(model, &mut kb, q, frame, lwa, &mut jac);
+            black_box(&jac);
+        }),
+        parallel: t(&mut || {
+            let _ = par::frame_jacobian_batch(model, &mut pk, q, frame, lwa, &mut jac);
+            black_box(&jac);
+        }),
+    });
+    let mut dd = DynamicsData::new(model);
+    let mut db = DynamicsBatch::new(model);
+    let mut pd = Parallel::<DynamicsBatch>::new(model);
+    let mut out = vec![0.0; n * nv];
+    let mut mass = vec![0.0; n * nv * nv];
+    rows.push(Row {
+        name: "rnea",
+        single: t(&mut || {
+            for k in 0..n {
+                let r = k * nv..(k + 1) * nv;
+                let _ = black_box(rnea(model, &mut dd, qk(k), &v[r.clone()], &a[r]).map(|t| t[0]));
+            }
+        }),
+        batched: t(&mut || {
+            let _ = rnea_batch(model, &mut db, q, v, a, &mut out);
+            black_box(&out);
+        }),
+        parallel: t(&mut || {
+            let _ = par::rnea_batch(model, &mut pd, q, v, a, &mut out);
+            black_box(&out);
+        }),
+    });
+    rows.push(Row {
+        name: "aba",
+        single: t(&mut || {
+            for k in 0..n {
+                let r = k * nv..(k + 1) * nv;
+                let _ = black_box(aba(model, &mut dd, qk(k), &v[r.clone()], &a[r]).map(|t| t[0]));
+            }
+        }),
+        batched: t(&mut || {
+            let _ = aba_batch(model, &mut db, q, v, a, &mut out);
+            black_box(&out);
+        }),
+        parallel: t(&mut || {
+            let _ = par::aba_batch(model, &mut pd, q, v, a, &mut out);
+            black_box(&out);
+        }),
+    });
+    rows.push(Row {
+        name: "crba",
+        single: t(&mut || {
+            for k in 0..n {
+                let _ = black_box(crba(model, &mut dd, qk(k)).map(|m| m[0]));
+            }
+        }),
+        batched: t(&mut || {
+            let _ = crba_batch(model, &mut db, q, &mut mass);
+            black_box(&mass);
+        }),
+        parallel: t(&mut || {
+            let _ = par::crba_batch(model, &mut pd, q, &mut mass);
+            black_box(&mass);
+        }),
+    });
+    rows
+}
+
+/// Runs `kinetree bench --batch`: random states, the timings, and the table or JSON.
+pub(crate) fn run(args: &super::bench::Args, model: &Model, n: usize) -> Result<()> {
+    use rand::{Rng, SeedableRng};
+    if n == 0 {
+        anyhow::bail!("--batch must be at least 1 state");
+    }
+    let mut rng = rand::rngs::SmallRng::seed_from_u64(args.seed);
+    let mut q = vec![0.0; n * model.nq()];
+    for qk in q.chunks_mut(model.nq().max(1)) {
+        kinetree::kinematics::configuration::random_configuration(model, &mut rng, qk)?;
+    }
+    let mut uniform = || -> Vec<f64> {
+        (0..n * model.nv())
+            .map(|_| rng.random_range(-1.0..1.0))
+            .collect()
+    };
+    let (v, a) = (uniform(), uniform());
+    let setup = Setup {
+        model,
+        q,
+        v,
+        a,
+        n,
+        states: args.calls,
+        reps: args.repetitions,
+        frame: FrameId::Link(super::bench::deepest_link(model)),
+    };
+    let threads = args.threads.unwrap_or(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    let (rows, threads) = pool.install(|| (rows(&setup), rayon::current_num_threads()));
+    let simd = KinematicsBatch::new(model).simd();
+    if args.json {
+        let map: serde_json::Map<String, serde_json::Value> = rows
+            .iter()
+            .map(|r| {
+                (
+                    r.name.to_string(),
+                    serde_json::json!({"single": r.single, "batched": r.batched, "parallel": r.parallel}),
+                )
+            })
+            .collect();
+        let out = serde_json::json!({"model": model.name(), "nq": model.nq(), "nv": model.nv(),
+            "batch": n, "threads": threads, "simd": format!("{simd:?}"), "ns_per_state": map});
+        outln!("{out}")?;
+    } else {
+        outln!(
+            "{} (nq = {}, nv = {}), batches of {n} states, {simd:?}, median ns/state",
+            model.name(),
+            model.nq(),
+            model.nv()
+        )?;
+        outln!("frame_jacobian is timed on '{}'", setup.frame.name(model)?)?;
+        outln!(
+            "  {:<16} {:>10} {:>10} {:>8} {:>12} {:>8}",
+            "algorithm",
+            "one-state",
+            "batched",
+            "speedup",
+            format!("{threads} threads"),
+            "speedup"
+        )?;
+        for r in &rows {
+            outln!(
+                "  {:<16} {:>10.1} {:>10.1} {:>7.2}x {:>12.1} {:>7.2}x",
+                r.name,
+                r.single,
+                r.batched,
+                r.single / r.batched,
+                r.parallel,
+                r.single / r.parallel
+            )?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,319 @@
+//! The instruction set of the batched sweeps, chosen at run time, and the joint transforms of a
+//! block of states in lanes.
+
+use crate::joint::{JointModel, sin_cos};
+use kinetree_model::Body;
+use kinetree_model::spatial::lanes::{LMat3, LSe3, LVec3, Lanes};
+
+/// The SIMD instruction set a batch workspace runs its sweeps with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Simd {
+    /// Plain code (4 states per block; whatever vector instructions the build targets).
+    Portable,
+    /// AVX2: 4 states per block in 256-bit registers.
+    Avx2,
+    /// AVX-512F: 8 states per block in 512-bit registers.
+    Avx512,
+}
+
+impl Simd {
+    /// The widest instruction set this CPU has.
+    #[must_use]
+    pub fn detect() -> Self {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Self::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Self::Avx2;
+            }
+        }
+        Self::Portable
+    }
+
+    /// Whether this CPU can run `self`.
+    #[must_use]
+    pub fn is_available(self) -> bool {
+        match self {
+            Self::Portable => true,
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// `self` if this CPU has it, else the widest set it has below it.
+    #[must_use]
+    pub fn or_available(self) -> Self {
+        match self {
+            Self::Avx512 if !self.is_available() => Self::Avx2.or_available(),
+            Self::Avx2 if !self.is_available() => Self::Portable,
+            s => s,
+        }
+    }
+
+    /// The number of states evaluated side by side.
+    #[must_use]
+    pub fn lanes(self) -> usize {
+        match self {
+            Self::Avx512 => 8,
+            _ => 4,
+        }
+    }
+}
+
+/// Runs `$kernel::<L>(bufs, args…)` compiled for the instruction set `$simd`, with `$bufs4`
+/// (a `&mut $buf<4>`) or `$bufs8` (a `&mut $buf<8>`) as the kernel's first argument. The
+/// target-feature calls are the only `unsafe` of the batched sweeps: a workspace picks its
+/// [`Simd`] with [`Simd::or_available`], so the CPU has the feature.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! simd_dispatch {
+    ($simd:expr, $buf:ident, $bufs4:expr, $bufs8:expr, $kernel:ident,
+     ($($a:ident: $t:ty = $v:expr),* $(,)?) -> $r:ty) => {{
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        #[allow(clippy::too_many_arguments, reason = "the kernel's own arguments, passed through")]
+        fn avx2(b: &mut $buf<4>, $($a: $t),*) -> $r {
+            $kernel::<4>(b, $($a),*)
+        }
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx512f")]
+        #[allow(clippy::too_many_arguments, reason = "the kernel's own arguments, passed through")]
+        fn avx512(b: &mut $buf<8>, $($a: $t),*) -> $r {
+            $kernel::<8>(b, $($a),*)
+        }
+        match $simd {
+            #[cfg(target_arch = "x86_64")]
+            $crate::batch::Simd::Avx2 => {
+                #[allow(unsafe_code, reason = "the workspace checked that the CPU has AVX2")]
+                // SAFETY: the workspace's `Simd` is `Avx2` only when the CPU has AVX2.
+                unsafe { avx2($bufs4, $($v),*) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            $crate::batch::Simd::Avx512 => {
+                #[allow(unsafe_code, reason = "the workspace checked that the CPU has AVX-512F")]
+                // SAFETY: the workspace's `Simd` is `Avx512` only when the CPU has AVX-512F.
+                unsafe { avx512($bufs8, $($v),*) }
+            }
+            _ => $kernel::<4>($bufs4, $($v),*),
+        }
+    }};
+}
+
+/// The first state of each lane of the block starting at `start` (lanes past `n` repeat the
+/// last state, so every lane computes something valid and only `n - start` are stored).
+#[inline(always)]
+pub fn block_states<const L: usize>(start: usize, n: usize) -> [usize; L] {
+    let mut idx = [0; L];
+    for (l, i) in idx.iter_mut().enumerate() {
+        *i = (start + l).min(n - 1);
+    }
+    idx
+}
+
+/// Coordinate `at` (of each state's `stride` numbers) of the block's states.
+#[inline(always)]
+pub fn gather<const L: usize>(x: &[f64], stride: usize, at: usize, idx: &[usize; L]) -> Lanes<L> {
+    let mut out = [0.0; L];
+    for l in 0..L {
+        out[l] = x[idx[l] * stride + at];
+    }
+    Lanes(out)
+}
+
+/// The joint value of a one-coordinate body (a coupled mimic body: `multiplier·q + offset`, as
+/// [`JointModel::body_transform`]).
+#[inline(always)]
+fn joint_value<const L: usize>(b: &Body, q: &[f64], nq: usize, idx: &[usize; L]) -> Lanes<L> {
+    let x = gather(q, nq, b.idx_q, idx);
+    match &b.mimic {
+        None => x,
+        Some(m) => x * m.multiplier + Lanes::splat(m.offset),
+    }
+}
+
+/// `parent_from_body` of `b` in each lane, as [`JointModel::body_transform`] computes it: the
+/// axis-aligned and fixed joints in lanes, every other kind lane by lane with the one-state
+/// kernel.
+#[inline(always)]
+pub fn body_transform<const L: usize>(
+    jm: &JointModel,
+    b: &Body,
+    q: &[f64],
+    nq: usize,
+    idx: &[usize; L],
+) -> LSe3<L> {
+    let p = &b.placement;
+    let r = &p.rotation;
+    let t = LVec3::splat(p.translation);
+    let rotate = |k: usize| {
+        let (s, c) = sin_cos_lanes(joint_value(b, q, nq, idx));
+        let (x, y, z) = (
+            LVec3::splat(r.x_axis),
+            LVec3::splat(r.y_axis),
+            LVec3::splat(r.z_axis),
+        );
+        let rotation = match k {
+            0 => LMat3 {
+                x_axis: x,
+                y_axis: y.scale(c) + z.scale(s),
+                z_axis: z.scale(c) - y.scale(s),
+            },
+            1 => LMat3 {
+                x_axis: x.scale(c) - z.scale(s),
+                y_axis: y,
+                z_axis: x.scale(s) + z.scale(c),
+            },
+            _ => LMat3 {
+                x_axis: x.scale(c) + y.scale(s),
+                y_axis: y.scale(c) - x.scale(s),
+                z_axis: z,
+            },
+        };
+        LSe3 {
+            rotation,
+            translation: t,
+        }
+    };
+    let slide = |axis: LVec3<L>| LSe3 {
+        rotation: LMat3::splat(r),
+        translation: t + axis,
+    };
+    match *jm {
+        JointModel::RevoluteX => rotate(0),
+        JointModel::RevoluteY => rotate(1),
+        JointModel::RevoluteZ => rotate(2),
+        JointModel::PrismaticX => slide(LVec3::splat(r.x_axis).scale(joint_value(b, q, nq, idx))),
+        JointModel::PrismaticY => slide(LVec3::splat(r.y_axis).scale(joint_value(b, q, nq, idx))),
+        JointModel::PrismaticZ => slide(LVec3::splat(r.z_axis).scale(joint_value(b, q, nq, idx))),
+        JointModel::Prismatic(a) => {
+            let d = joint_value(b, q, nq, idx);
+            let v = LVec3 {
+                x: d * a.x,
+                y: d * a.y,
+                z: d * a.z,
+            };
+            slide(LMat3::splat(r).mul_vec(&v))
+        }
+        JointModel::Fixed => LSe3::splat(p),
+        _ => {
+            let mut x = LSe3::default();
+            for l in 0..L {
+                let state = &q[idx[l] * nq..(idx[l] + 1) * nq];
+                x.set_lane(l, &jm.body_transform(b, state));
+            }
+            x
+        }
+    }
+}
+
+/// [`sin_cos`] of every lane, bit for bit, in SIMD: the same reduction and kernels written
+/// over lanes (lanes with `|x| ≥ 1e5` take the scalar path, as `sin_cos` does).
+#[inline(always)]
+#[allow(
+    clippy::excessive_precision,
+    reason = "fdlibm's constants, digit for digit, as in sin_cos"
+)]
+pub(crate) fn sin_cos_lanes<const L: usize>(x: Lanes<L>) -> (Lanes<L>, Lanes<L>) {
+    const PIO2_1: f64 = 1.570_796_326_734_125_614_17e0;
+    const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
+    const PIO2_3: f64 = 2.022_266_248_795_950_631_54e-21;
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    const S1: f64 = -1.666_666_666_666_663_243_48e-1;
+    const S2: f64 = 8.333_333_333_322_489_461_24e-3;
+    const S3: f64 = -1.984_126_982_985_794_931_34e-4;
+    const S4: f64 = 2.755_731_370_707_006_767_89e-6;
+    const S5: f64 = -2.505_076_025_340_686_341_95e-8;
+    const S6: f64 = 1.589_690_995_211_550_102_21e-10;
+    const C1: f64 = 4.166_666_666_666_660_190_37e-2;
+    const C2: f64 = -1.388_888_888_887_410_957_49e-3;
+    const C3: f64 = 2.480_158_728_947_672_941_78e-5;
+    const C4: f64 = -2.755_731_435_139_066_330_35e-7;
+    const C5: f64 = 2.087_572_321_298_174_827_90e-9;
+    const C6: f64 = -1.135_964_755_778_819_482_65e-11;
+    let t = x * core::f64::consts::FRAC_2_PI + Lanes::splat(ROUND);
+    let kf = t - Lanes::splat(ROUND);
+    let r = ((x - kf * PIO2_1) - kf * PIO2_2) - kf * PIO2_3;
+    let z = r * r;
+    let poly_s = Lanes::splat(S1)
+        + z * (Lanes::splat(S2)
+            + z * (Lanes::splat(S3) + z * (Lanes::splat(S4) + z * (Lanes::splat(S5) + z * S6))));
+    let s = r + r * z * poly_s;
+    let poly_c = Lanes::splat(C1)
+        + z * (Lanes::splat(C2)
+            + z * (Lanes::splat(C3) + z * (Lanes::splat(C4) + z * (Lanes::splat(C5) + z * C6))));
+    let p = z * z * poly_c;
+    let hz = z * 0.5;
+    let w = Lanes::splat(1.0) - hz;
+    let c = w + (((Lanes::splat(1.0) - w) - hz) + p);
+    // Quadrant n = k mod 4 from the rounded sum's low bits (the integer k sits in the mantissa
+    // of `t`): (sin, cos) = (s, c), (c, -s), (-s, -c), (-c, s).
+    let (mut sin, mut cos) = ([0.0; L], [0.0; L]);
+    let mut large = false;
+    for l in 0..L {
+        let n = t.0[l].to_bits();
+        let odd = n & 1 == 1;
+        let (sv, cv) = if odd {
+            (c.0[l], s.0[l])
+        } else {
+            (s.0[l], c.0[l])
+        };
+        sin[l] = f64::from_bits(sv.to_bits() ^ ((n & 2) << 62));
+        cos[l] = f64::from_bits(cv.to_bits() ^ ((n.wrapping_add(1) & 2) << 62));
+        large |= x.0[l].abs() >= 1e5;
+    }
+    if large {
+        for l in 0..L {
+            if x.0[l].abs() >= 1e5 {
+                (sin[l], cos[l]) = sin_cos(x.0[l]);
+            }
+        }
+    }
+    (Lanes(sin), Lanes(cos))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lane_sin_cos_is_the_scalar_one_bit_for_bit() {
+        let mut x = -1.2e5 + 0.123;
+        let mut checked = 0;
+        while x < 1.2e5 {
+            let xs = Lanes([x, -x * 0.5, x * 1e-3, x * 1e-9]);
+            let (s, c) = sin_cos_lanes(xs);
+            for l in 0..4 {
+                let (s0, c0) = sin_cos(xs.0[l]);
+                assert_eq!(
+                    (s.0[l].to_bits(), c.0[l].to_bits()),
+                    (s0.to_bits(), c0.to_bits()),
+                    "{}",
+                    xs.0[l]
+                );
+                checked += 1;
+            }
+            x += 0.377_123;
+        }
+        for i in -2000..2000 {
+            let x = f64::from(i) * core::f64::consts::FRAC_PI_4;
+            let xs = Lanes([x, x * (1.0 + 1e-15), -0.0, 0.0]);
+            let (s, c) = sin_cos_lanes(xs);
+            for l in 0..4 {
+                let (s0, c0) = sin_cos(xs.0[l]);
+                assert_eq!(
+                    (s.0[l].to_bits(), c.0[l].to_bits()),
+                    (s0.to_bits(), c0.to_bits()),
+                    "{}",
+                    xs.0[l]
+                );
+            }
+        }
+        assert!(checked > 1_000_000);
+    }
+}

@@ -1,0 +1,192 @@
+//! The lane kernels of batched forward kinematics and frame Jacobians: the one-state sweeps of
+//! `forward.rs` and `jacobian.rs`, over a block of `L` states at a time.
+
+use super::simd::{block_states, body_transform};
+use crate::jacobian::ReferenceFrame;
+use crate::joint::JointModel;
+use kinetree_model::Model;
+use kinetree_model::spatial::lanes::{LMotion, LSe3, LVec3, Lanes};
+use kinetree_model::spatial::{Motion, Se3};
+
+/// The per-body and per-link lane buffers of one lane width.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct LaneBuffers<const L: usize> {
+    world_from_body: Vec<LSe3<L>>,
+    world_from_link: Vec<LSe3<L>>,
+    columns: Vec<LMotion<L>>,
+}
+
+impl<const L: usize> LaneBuffers<L> {
+    pub(crate) fn new(model: &Model) -> Self {
+        Self {
+            world_from_body: vec![LSe3::splat(&Se3::IDENTITY); model.nbodies()],
+            world_from_link: vec![LSe3::splat(&Se3::IDENTITY); model.links().len()],
+            columns: vec![LMotion::ZERO; model.nv()],
+        }
+    }
+}
+
+/// The model data the kernels read besides the [`Model`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shape<'a> {
+    pub(crate) model: &'a Model,
+    pub(crate) joint_models: &'a [JointModel],
+    pub(crate) link_on_body_frame: &'a [bool],
+}
+
+/// Every body's world placement for the block of states `idx` (the sweep of `placements`).
+#[inline(always)]
+fn body_sweep<const L: usize>(
+    shape: &Shape<'_>,
+    world: &mut [LSe3<L>],
+    q: &[f64],
+    idx: &[usize; L],
+) {
+    let model = shape.model;
+    let nq = model.nq();
+    let bodies = model.bodies();
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        let local = body_transform(&shape.joint_models[i], b, q, nq, idx);
+        world[i] = if b.parent == 0 {
+            local
+        } else {
+            world[b.parent].mul(&local)
+        };
+    }
+}
+
+/// Forward kinematics of the `n` states of `q`: every link's placement into `links`, and every
+/// frame's into `frames` when given (inputs checked by the caller).
+#[inline(always)]
+pub(crate) fn forward_kinematics<const L: usize>(
+    bufs: &mut LaneBuffers<L>,
+    shape: &Shape<'_>,
+    q: &[f64],
+    n: usize,
+    links: &mut [Se3],
+    mut frames: Option<&mut [Se3]>,
+) {
+    let model = shape.model;
+    let (nl, nf) = (model.links().len(), model.frames().len());
+    for start in (0..n).step_by(L) {
+        let idx = block_states::<L>(start, n);
+        let count = L.min(n - start);
+        body_sweep(shape, &mut bufs.world_from_body, q, &idx);
+        for l in 0..nl {
+            let (b, body_from_link) = model.link_body(l);
+            let x = if shape.link_on_body_frame[l] {
+                bufs.world_from_body[b]
+            } else {
+                bufs.world_from_body[b].mul_const(body_from_link)
+            };
+            bufs.world_from_link[l] = x;
+            for k in 0..count {
+                links[(start + k) * nl + l] = x.lane(k);
+            }
+        }
+        if let Some(frames) = frames.as_deref_mut() {
+            for (f, frame) in model.frames().iter().enumerate() {
+                let x = bufs.world_from_link[frame.link].mul_const(&frame.placement);
+                for k in 0..count {
+                    frames[(start + k) * nf + f] = x.lane(k);
+                }
+            }
+        }
+    }
+}
+
+/// A world-frame twist re-expressed for a frame at `world_from_frame` (as `world_to_reference`
+/// of `jacobian.rs`).
+#[inline(always)]
+fn to_reference<const L: usize>(
+    world_from_frame: &LSe3<L>,
+    world: &LMotion<L>,
+    reference: ReferenceFrame,
+) -> LMotion<L> {
+    match reference {
+        ReferenceFrame::World => *world,
+        ReferenceFrame::Local => world_from_frame.act_inv_motion(world),
+        ReferenceFrame::LocalWorldAligned => LMotion {
+            linear: world.linear + world.angular.cross(&world_from_frame.translation),
+            angular: world.angular,
+        },
+    }
+}
+
+/// The one subspace column of an axis-aligned joint moved by `x` (as `JointModel::act_axis`).
+#[inline(always)]
+fn act_axis<const L: usize>(x: &LSe3<L>, k: usize, revolute: bool) -> LMotion<L> {
+    let axis = x.rotation.col(k);
+    if revolute {
+        LMotion {
+            linear: x.translation.cross(&axis),
+            angular: axis,
+        }
+    } else {
+        LMotion {
+            linear: axis,
+            angular: LVec3::ZERO,
+        }
+    }
+}
+
+/// The Jacobian of `frame` in `reference` for the `n` states of `q`, into `out` (`n · nv`
+/// columns; inputs checked by the caller), as `compute_frame_jacobian`.
+#[inline(always)]
+pub(crate) fn frame_jacobian<const L: usize>(
+    bufs: &mut LaneBuffers<L>,
+    shape: &Shape<'_>,
+    q: &[f64],
+    n: usize,
+    body_and_placement: (usize, Se3),
+    reference: ReferenceFrame,
+    out: &mut [Motion],
+) {
+    let model = shape.model;
+    let nv = model.nv();
+    let bodies = model.bodies();
+    let (body, body_from_frame) = body_and_placement;
+    for start in (0..n).step_by(L) {
+        let idx = block_states::<L>(start, n);
+        let count = L.min(n - start);
+        body_sweep(shape, &mut bufs.world_from_body, q, &idx);
+        let world_from_frame = bufs.world_from_body[body].mul_const(&body_from_frame);
+        bufs.columns.fill(LMotion::ZERO);
+        let mut i = body;
+        while i != 0 {
+            let b = &bodies[i];
+            let x = &bufs.world_from_body[i];
+            let jm = &shape.joint_models[i];
+            let axis = jm.axis_index();
+            let column = |k: usize| match axis {
+                Some((a, revolute)) => act_axis(x, a, revolute),
+                None => x.act_motion(&LMotion::splat(&jm.subspace_column(k))),
+            };
+            if let Some(m) = &b.mimic {
+                let col = to_reference(&world_from_frame, &column(0), reference);
+                bufs.columns[b.idx_v] += col.scale(Lanes::splat(m.multiplier));
+            } else {
+                for k in 0..b.nv {
+                    bufs.columns[b.idx_v + k] +=
+                        to_reference(&world_from_frame, &column(k), reference);
+                }
+            }
+            i = b.parent;
+        }
+        for (c, col) in bufs.columns.iter().enumerate() {
+            for k in 0..count {
+                out[(start + k) * nv + c] = col.lane(k);
+            }
+        }
+    }
+}
+
+/// Which states' placements overflowed: the first state of `links` (`nl` per state) with a
+/// non-finite translation.
+pub(crate) fn first_non_finite(links: &[Se3], nl: usize) -> Option<usize> {
+    links
+        .iter()
+        .position(|x| !x.translation.is_finite())
+        .map(|i| i / nl.max(1))
+}

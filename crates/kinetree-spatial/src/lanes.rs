@@ -1,0 +1,725 @@
+//! Lanes: the spatial types of `L` independent states side by side (structure of arrays), for
+//! the batched sweeps that evaluate several states of one model at once.
+//!
+//! [`Lanes<L>`] is `L` numbers; [`LVec3`], [`LMat3`], [`LSe3`], [`LMotion`] and [`LForce`] are
+//! the lane forms of `DVec3`, `DMat3`, [`Se3`], [`Motion`] and [`Force`]. Every operation does
+//! the scalar type's arithmetic in the same order, lane by lane, so a lane's result is the
+//! scalar result bit for bit; written as fixed-length loops, the compiler turns them into SIMD
+//! instructions (4 lanes of AVX2, 8 of AVX-512) inside a function compiled for those features.
+//! Model constants (placements, inertias) stay scalar and are broadcast.
+//!
+//! ```
+//! use kinetree_spatial::lanes::{LSe3, LVec3};
+//! use kinetree_spatial::{DVec3, Se3};
+//! let a = Se3::from_xyz_rpy([0.1, 0.2, 0.3], [0.4, 0.5, 0.6]);
+//! let b = Se3::from_xyz_rpy([-0.3, 0.0, 0.7], [0.1, -0.2, 0.3]);
+//! let mut lanes = LSe3::<4>::splat(&a);
+//! lanes.set_lane(2, &b);
+//! let product = lanes.mul(&LSe3::splat(&a));
+//! assert_eq!(product.lane(2), b * a);
+//! assert_eq!(product.lane(0), a * a);
+//! let p = LVec3::<4>::splat(DVec3::X);
+//! assert_eq!(p.cross(&p).lane(1), DVec3::ZERO);
+//! ```
+
+use crate::{Force, Inertia, Motion, OriginInertia, Se3, Symmetric3};
+use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
+use glam::{DMat3, DVec3};
+
+/// `L` numbers, one per state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(transparent)]
+pub struct Lanes<const L: usize>(pub [f64; L]);
+
+impl<const L: usize> Default for Lanes<L> {
+    #[inline(always)]
+    fn default() -> Self {
+        Self::ZERO
+    }
+}
+
+impl<const L: usize> Lanes<L> {
+    /// Zero in every lane.
+    pub const ZERO: Self = Self([0.0; L]);
+
+    /// `x` in every lane.
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(x: f64) -> Self {
+        Self([x; L])
+    }
+
+    /// `f` of every lane.
+    #[inline(always)]
+    #[must_use]
+    pub fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        let mut out = self.0;
+        for x in &mut out {
+            *x = f(*x);
+        }
+        Self(out)
+    }
+}
+
+macro_rules! lane_binary {
+    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
+        impl<const L: usize> $tr for Lanes<L> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                let mut out = [0.0; L];
+                for l in 0..L {
+                    out[l] = self.0[l] $op o.0[l];
+                }
+                Self(out)
+            }
+        }
+        impl<const L: usize> $tr<f64> for Lanes<L> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: f64) -> Self {
+                let mut out = [0.0; L];
+                for l in 0..L {
+                    out[l] = self.0[l] $op o;
+                }
+                Self(out)
+            }
+        }
+        impl<const L: usize> $tra for Lanes<L> {
+            #[inline(always)]
+            fn $fa(&mut self, o: Self) {
+                *self = *self $op o;
+            }
+        }
+    };
+}
+
+lane_binary!(Add, add, AddAssign, add_assign, +);
+lane_binary!(Sub, sub, SubAssign, sub_assign, -);
+
+impl<const L: usize> Mul for Lanes<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        let mut out = [0.0; L];
+        for l in 0..L {
+            out[l] = self.0[l] * o.0[l];
+        }
+        Self(out)
+    }
+}
+
+impl<const L: usize> Mul<f64> for Lanes<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: f64) -> Self {
+        let mut out = [0.0; L];
+        for l in 0..L {
+            out[l] = self.0[l] * o;
+        }
+        Self(out)
+    }
+}
+
+impl<const L: usize> Neg for Lanes<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        let mut out = [0.0; L];
+        for l in 0..L {
+            out[l] = -self.0[l];
+        }
+        Self(out)
+    }
+}
+
+/// A 3-vector per lane (the lane form of `DVec3`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LVec3<const L: usize> {
+    /// x of every lane.
+    pub x: Lanes<L>,
+    /// y of every lane.
+    pub y: Lanes<L>,
+    /// z of every lane.
+    pub z: Lanes<L>,
+}
+
+impl<const L: usize> LVec3<L> {
+    /// Zero in every lane.
+    pub const ZERO: Self = Self {
+        x: Lanes::ZERO,
+        y: Lanes::ZERO,
+        z: Lanes::ZERO,
+    };
+
+    /// `v` in every lane.
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(v: DVec3) -> Self {
+        Self {
+            x: Lanes::splat(v.x),
+            y: Lanes::splat(v.y),
+            z: Lanes::splat(v.z),
+        }
+    }
+
+    /// Lane `l`.
+    #[inline(always)]
+    #[must_use]
+    pub fn lane(&self, l: usize) -> DVec3 {
+        DVec3::new(self.x.0[l], self.y.0[l], self.z.0[l])
+    }
+
+    /// Sets lane `l` to `v`.
+    #[inline(always)]
+    pub fn set_lane(&mut self, l: usize, v: DVec3) {
+        self.x.0[l] = v.x;
+        self.y.0[l] = v.y;
+        self.z.0[l] = v.z;
+    }
+
+    /// Coordinate `k` (0, 1, 2 for x, y, z).
+    #[inline(always)]
+    #[must_use]
+    pub fn get(&self, k: usize) -> Lanes<L> {
+        match k {
+            0 => self.x,
+            1 => self.y,
+            _ => self.z,
+        }
+    }
+
+    /// Coordinate `k` (0, 1, 2 for x, y, z), mutably.
+    #[inline(always)]
+    pub fn get_mut(&mut self, k: usize) -> &mut Lanes<L> {
+        match k {
+            0 => &mut self.x,
+            1 => &mut self.y,
+            _ => &mut self.z,
+        }
+    }
+
+    /// Every coordinate times the lane's `s`.
+    #[inline(always)]
+    #[must_use]
+    pub fn scale(&self, s: Lanes<L>) -> Self {
+        Self {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+
+    /// Every coordinate times `s`.
+    #[inline(always)]
+    #[must_use]
+    pub fn scale_by(&self, s: f64) -> Self {
+        Self {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+
+    /// The cross product (as `DVec3::cross`).
+    #[inline(always)]
+    #[must_use]
+    pub fn cross(&self, r: &Self) -> Self {
+        Self {
+            x: self.y * r.z - r.y * self.z,
+            y: self.z * r.x - r.z * self.x,
+            z: self.x * r.y - r.x * self.y,
+        }
+    }
+
+    /// The cross product with a constant (as `DVec3::cross`).
+    #[inline(always)]
+    #[must_use]
+    pub fn cross_const(&self, r: DVec3) -> Self {
+        Self {
+            x: self.y * r.z - self.z * r.y,
+            y: self.z * r.x - self.x * r.z,
+            z: self.x * r.y - self.y * r.x,
+        }
+    }
+
+    /// A constant's cross product with this vector (as `DVec3::cross`).
+    #[inline(always)]
+    #[must_use]
+    pub fn const_cross(l: DVec3, r: &Self) -> Self {
+        Self {
+            x: r.z * l.y - r.y * l.z,
+            y: r.x * l.z - r.z * l.x,
+            z: r.y * l.x - r.x * l.y,
+        }
+    }
+
+    /// The dot product (as `DVec3::dot`).
+    #[inline(always)]
+    #[must_use]
+    pub fn dot(&self, r: &Self) -> Lanes<L> {
+        (self.x * r.x) + (self.y * r.y) + (self.z * r.z)
+    }
+}
+
+impl<const L: usize> Add for LVec3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Self {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+}
+
+impl<const L: usize> Sub for LVec3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Self {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+}
+
+impl<const L: usize> Neg for LVec3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self {
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+        }
+    }
+}
+
+impl<const L: usize> AddAssign for LVec3<L> {
+    #[inline(always)]
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
+}
+
+impl<const L: usize> SubAssign for LVec3<L> {
+    #[inline(always)]
+    fn sub_assign(&mut self, o: Self) {
+        *self = *self - o;
+    }
+}
+
+/// A 3x3 matrix per lane, by columns (the lane form of `DMat3`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LMat3<const L: usize> {
+    /// First column.
+    pub x_axis: LVec3<L>,
+    /// Second column.
+    pub y_axis: LVec3<L>,
+    /// Third column.
+    pub z_axis: LVec3<L>,
+}
+
+impl<const L: usize> LMat3<L> {
+    /// `m` in every lane.
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(m: &DMat3) -> Self {
+        Self {
+            x_axis: LVec3::splat(m.x_axis),
+            y_axis: LVec3::splat(m.y_axis),
+            z_axis: LVec3::splat(m.z_axis),
+        }
+    }
+
+    /// Lane `l`.
+    #[inline(always)]
+    #[must_use]
+    pub fn lane(&self, l: usize) -> DMat3 {
+        DMat3::from_cols(
+            self.x_axis.lane(l),
+            self.y_axis.lane(l),
+            self.z_axis.lane(l),
+        )
+    }
+
+    /// Sets lane `l` to `m`.
+    #[inline(always)]
+    pub fn set_lane(&mut self, l: usize, m: &DMat3) {
+        self.x_axis.set_lane(l, m.x_axis);
+        self.y_axis.set_lane(l, m.y_axis);
+        self.z_axis.set_lane(l, m.z_axis);
+    }
+
+    /// Column `k`.
+    #[inline(always)]
+    #[must_use]
+    pub fn col(&self, k: usize) -> LVec3<L> {
+        match k {
+            0 => self.x_axis,
+            1 => self.y_axis,
+            _ => self.z_axis,
+        }
+    }
+
+    /// `self · v` (as `DMat3 * DVec3`).
+    #[inline(always)]
+    #[must_use]
+    pub fn mul_vec(&self, v: &LVec3<L>) -> LVec3<L> {
+        self.x_axis.scale(v.x) + self.y_axis.scale(v.y) + self.z_axis.scale(v.z)
+    }
+
+    /// `self · v` for a constant `v`.
+    #[inline(always)]
+    #[must_use]
+    pub fn mul_const_vec(&self, v: DVec3) -> LVec3<L> {
+        self.x_axis.scale_by(v.x) + self.y_axis.scale_by(v.y) + self.z_axis.scale_by(v.z)
+    }
+
+    /// `selfᵀ · v` as three dot products (as `Se3::inverse_transform_vector`).
+    #[inline(always)]
+    #[must_use]
+    pub fn transpose_mul_vec(&self, v: &LVec3<L>) -> LVec3<L> {
+        LVec3 {
+            x: self.x_axis.dot(v),
+            y: self.y_axis.dot(v),
+            z: self.z_axis.dot(v),
+        }
+    }
+
+    /// `self · m` (as `DMat3 * DMat3`).
+    #[inline(always)]
+    #[must_use]
+    pub fn mul_mat(&self, m: &Self) -> Self {
+        Self {
+            x_axis: self.mul_vec(&m.x_axis),
+            y_axis: self.mul_vec(&m.y_axis),
+            z_axis: self.mul_vec(&m.z_axis),
+        }
+    }
+
+    /// `self · m` for a constant `m`.
+    #[inline(always)]
+    #[must_use]
+    pub fn mul_const_mat(&self, m: &DMat3) -> Self {
+        Self {
+            x_axis: self.mul_const_vec(m.x_axis),
+            y_axis: self.mul_const_vec(m.y_axis),
+            z_axis: self.mul_const_vec(m.z_axis),
+        }
+    }
+}
+
+/// A rigid transform per lane (the lane form of [`Se3`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LSe3<const L: usize> {
+    /// The rotations.
+    pub rotation: LMat3<L>,
+    /// The translations.
+    pub translation: LVec3<L>,
+}
+
+impl<const L: usize> LSe3<L> {
+    /// `x` in every lane.
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(x: &Se3) -> Self {
+        Self {
+            rotation: LMat3::splat(&x.rotation),
+            translation: LVec3::splat(x.translation),
+        }
+    }
+
+    /// Lane `l`.
+    #[inline(always)]
+    #[must_use]
+    pub fn lane(&self, l: usize) -> Se3 {
+        Se3::new(self.rotation.lane(l), self.translation.lane(l))
+    }
+
+    /// Sets lane `l` to `x`.
+    #[inline(always)]
+    pub fn set_lane(&mut self, l: usize, x: &Se3) {
+        self.rotation.set_lane(l, &x.rotation);
+        self.translation.set_lane(l, x.translation);
+    }
+
+    /// Composition `self * o` (as `Se3 * Se3`).
+    #[inline(always)]
+    #[must_use]
+    pub fn mul(&self, o: &Self) -> Self {
+        Self {
+            rotation: self.rotation.mul_mat(&o.rotation),
+            translation: self.rotation.mul_vec(&o.translation) + self.translation,
+        }
+    }
+
+    /// Composition `self * o` with a constant `o`.
+    #[inline(always)]
+    #[must_use]
+    pub fn mul_const(&self, o: &Se3) -> Self {
+        Self {
+            rotation: self.rotation.mul_const_mat(&o.rotation),
+            translation: self.rotation.mul_const_vec(o.translation) + self.translation,
+        }
+    }
+
+    /// As [`Se3::act_motion`].
+    #[inline(always)]
+    #[must_use]
+    pub fn act_motion(&self, m: &LMotion<L>) -> LMotion<L> {
+        let w = self.rotation.mul_vec(&m.angular);
+        LMotion {
+            linear: self.rotation.mul_vec(&m.linear) + self.translation.cross(&w),
+            angular: w,
+        }
+    }
+
+    /// As [`Se3::act_inv_motion`].
+    #[inline(always)]
+    #[must_use]
+    pub fn act_inv_motion(&self, m: &LMotion<L>) -> LMotion<L> {
+        LMotion {
+            linear: self
+                .rotation
+                .transpose_mul_vec(&(m.linear - self.translation.cross(&m.angular))),
+            angular: self.rotation.transpose_mul_vec(&m.angular),
+        }
+    }
+
+    /// As [`Se3::act_force`].
+    #[inline(always)]
+    #[must_use]
+    pub fn act_force(&self, f: &LForce<L>) -> LForce<L> {
+        let lin = self.rotation.mul_vec(&f.linear);
+        LForce {
+            linear: lin,
+            angular: self.rotation.mul_vec(&f.angular) + self.translation.cross(&lin),
+        }
+    }
+}
+
+macro_rules! lane_spatial {
+    ($t:ident, $s:ident, $what:literal) => {
+        #[doc = concat!("A ", $what, " per lane (the lane form of [`", stringify!($s), "`]).")]
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        pub struct $t<const L: usize> {
+            /// The linear parts.
+            pub linear: LVec3<L>,
+            /// The angular parts.
+            pub angular: LVec3<L>,
+        }
+
+        impl<const L: usize> $t<L> {
+            /// Zero in every lane.
+            pub const ZERO: Self = Self {
+                linear: LVec3::ZERO,
+                angular: LVec3::ZERO,
+            };
+
+            /// `x` in every lane.
+            #[inline(always)]
+            #[must_use]
+            pub fn splat(x: &$s) -> Self {
+                Self {
+                    linear: LVec3::splat(x.linear),
+                    angular: LVec3::splat(x.angular),
+                }
+            }
+
+            /// Lane `l`.
+            #[inline(always)]
+            #[must_use]
+            pub fn lane(&self, l: usize) -> $s {
+                $s::new(self.linear.lane(l), self.angular.lane(l))
+            }
+
+            /// Sets lane `l` to `x`.
+            #[inline(always)]
+            pub fn set_lane(&mut self, l: usize, x: &$s) {
+                self.linear.set_lane(l, x.linear);
+                self.angular.set_lane(l, x.angular);
+            }
+
+            /// Every coordinate times the lane's `s`.
+            #[inline(always)]
+            #[must_use]
+            pub fn scale(&self, s: Lanes<L>) -> Self {
+                Self {
+                    linear: self.linear.scale(s),
+                    angular: self.angular.scale(s),
+                }
+            }
+        }
+
+        impl<const L: usize> Add for $t<L> {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, o: Self) -> Self {
+                Self {
+                    linear: self.linear + o.linear,
+                    angular: self.angular + o.angular,
+                }
+            }
+        }
+
+        impl<const L: usize> Sub for $t<L> {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, o: Self) -> Self {
+                Self {
+                    linear: self.linear - o.linear,
+                    angular: self.angular - o.angular,
+                }
+            }
+        }
+
+        impl<const L: usize> AddAssign for $t<L> {
+            #[inline(always)]
+            fn add_assign(&mut self, o: Self) {
+                *self = *self + o;
+            }
+        }
+
+        impl<const L: usize> SubAssign for $t<L> {
+            #[inline(always)]
+            fn sub_assign(&mut self, o: Self) {
+                *self = *self - o;
+            }
+        }
+    };
+}
+
+lane_spatial!(LMotion, Motion, "spatial motion");
+lane_spatial!(LForce, Force, "spatial force");
+
+impl<const L: usize> LMotion<L> {
+    /// As [`Motion::cross_motion`].
+    #[inline(always)]
+    #[must_use]
+    pub fn cross_motion(&self, m: &Self) -> Self {
+        Self {
+            linear: self.angular.cross(&m.linear) + self.linear.cross(&m.angular),
+            angular: self.angular.cross(&m.angular),
+        }
+    }
+
+    /// As [`Motion::cross_force`].
+    #[inline(always)]
+    #[must_use]
+    pub fn cross_force(&self, f: &LForce<L>) -> LForce<L> {
+        LForce {
+            linear: self.angular.cross(&f.linear),
+            angular: self.angular.cross(&f.angular) + self.linear.cross(&f.linear),
+        }
+    }
+
+    /// As [`Motion::dot`].
+    #[inline(always)]
+    #[must_use]
+    pub fn dot(&self, f: &LForce<L>) -> Lanes<L> {
+        self.linear.dot(&f.linear) + self.angular.dot(&f.angular)
+    }
+}
+
+/// `i · v` for a constant symmetric `i` (as [`Symmetric3::mul_vec3`]).
+#[inline(always)]
+#[must_use]
+pub fn sym_mul_vec<const L: usize>(i: &Symmetric3, v: &LVec3<L>) -> LVec3<L> {
+    LVec3 {
+        x: v.x * i.xx + v.y * i.xy + v.z * i.xz,
+        y: v.x * i.xy + v.y * i.yy + v.z * i.yz,
+        z: v.x * i.xz + v.y * i.yz + v.z * i.zz,
+    }
+}
+
+/// The momentum `y · s` of a constant inertia (as [`OriginInertia::mul_motion`]).
+#[inline(always)]
+#[must_use]
+pub fn inertia_mul_motion<const L: usize>(y: &OriginInertia, s: &LMotion<L>) -> LForce<L> {
+    LForce {
+        linear: s.linear.scale_by(y.m) + s.angular.cross_const(y.h),
+        angular: LVec3::const_cross(y.h, &s.linear) + sym_mul_vec(&y.i, &s.angular),
+    }
+}
+
+/// The momentum `inertia · v` of a constant rigid-body inertia (as [`Inertia::mul_motion`]).
+#[inline(always)]
+#[must_use]
+pub fn rigid_mul_motion<const L: usize>(inertia: &Inertia, v: &LMotion<L>) -> LForce<L> {
+    let lin = (v.linear + v.angular.cross_const(inertia.com)).scale_by(inertia.mass);
+    LForce {
+        linear: lin,
+        angular: LVec3::const_cross(inertia.com, &lin)
+            + sym_mul_vec(&inertia.rotational, &v.angular),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn se3s() -> [Se3; 4] {
+        [
+            Se3::from_xyz_rpy([0.1, 0.2, 0.3], [0.4, 0.5, 0.6]),
+            Se3::from_xyz_rpy([-0.3, 0.0, 0.7], [0.1, -0.2, 0.3]),
+            Se3::from_xyz_rpy([1.3, -2.0, 0.1], [3.0, 1.2, -2.3]),
+            Se3::from_xyz_rpy([0.0, 0.5, -0.5], [-1.0, 0.0, 2.0]),
+        ]
+    }
+
+    fn load<T: Copy, U: Default>(xs: &[T; 4], set: impl Fn(&mut U, usize, &T)) -> U {
+        let mut out = U::default();
+        for (l, x) in xs.iter().enumerate() {
+            set(&mut out, l, x);
+        }
+        out
+    }
+
+    #[test]
+    fn every_lane_is_the_scalar_result_bit_for_bit() {
+        let xs = se3s();
+        let ys = [xs[2], xs[0], xs[3], xs[1]];
+        let ms = xs.map(|x| Motion::new(x.translation, x.rotation.x_axis * 1.7));
+        let fs = ys.map(|x| Force::new(x.rotation.z_axis, x.translation * -0.3));
+        let lx: LSe3<4> = load(&xs, |o: &mut LSe3<4>, l, x| o.set_lane(l, x));
+        let ly: LSe3<4> = load(&ys, |o: &mut LSe3<4>, l, x| o.set_lane(l, x));
+        let lm: LMotion<4> = load(&ms, |o: &mut LMotion<4>, l, x| o.set_lane(l, x));
+        let lf: LForce<4> = load(&fs, |o: &mut LForce<4>, l, x| o.set_lane(l, x));
+        let rigid = Inertia::new(
+            2.5,
+            DVec3::new(0.1, -0.2, 0.3),
+            Symmetric3::new(0.4, 0.01, -0.02, 0.5, 0.03, 0.6),
+        );
+        let inertia = OriginInertia::from_inertia(&rigid);
+        for l in 0..4 {
+            assert_eq!(lx.mul(&ly).lane(l), xs[l] * ys[l]);
+            assert_eq!(lx.mul_const(&ys[1]).lane(l), xs[l] * ys[1]);
+            assert_eq!(lx.act_motion(&lm).lane(l), xs[l].act_motion(&ms[l]));
+            assert_eq!(lx.act_inv_motion(&lm).lane(l), xs[l].act_inv_motion(&ms[l]));
+            assert_eq!(lx.act_force(&lf).lane(l), xs[l].act_force(&fs[l]));
+            assert_eq!(lm.cross_motion(&lm).lane(l), ms[l].cross_motion(&ms[l]));
+            assert_eq!(lm.cross_force(&lf).lane(l), ms[l].cross_force(&fs[l]));
+            assert_eq!(lm.dot(&lf).0[l], ms[l].dot(&fs[l]));
+            assert_eq!(
+                inertia_mul_motion(&inertia, &lm).lane(l),
+                inertia.mul_motion(&ms[l])
+            );
+            assert_eq!(
+                rigid_mul_motion(&rigid, &lm).lane(l),
+                rigid.mul_motion(&ms[l])
+            );
+            let v = lm.linear;
+            let c = DVec3::new(0.3, -0.7, 1.1);
+            assert_eq!(v.cross_const(c).lane(l), ms[l].linear.cross(c));
+            assert_eq!(LVec3::const_cross(c, &v).lane(l), c.cross(ms[l].linear));
+            assert_eq!(
+                lx.rotation.transpose_mul_vec(&v).lane(l),
+                xs[l].inverse_transform_vector(ms[l].linear)
+            );
+        }
+    }
+}
