@@ -506,13 +506,49 @@ fn a_composite_joint_is_one_joint_at_the_command_line() {
         err.contains("'hip'") && err.contains("composite joint takes 2"),
         "{err}"
     );
-    // convert: JSON to JSON keeps it one composite joint.
+    // convert: JSON to JSON keeps it one composite joint, with --positions by its name.
     let again = temp("leg-again.json");
-    ok(&kinetree(&["convert", model_s, again.to_str().unwrap()]));
+    ok(&kinetree(&[
+        "convert",
+        model_s,
+        again.to_str().unwrap(),
+        "--positions",
+        "hip=0.3:-0.2",
+    ]));
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&again).unwrap()).unwrap();
     assert_eq!(joint(&doc, "hip")["type"], "composite");
+    assert_eq!(
+        joint(&doc, "hip")["position"],
+        serde_json::json!([0.3, -0.2])
+    );
     assert_eq!(doc["joints"].as_array().unwrap().len(), 2);
+    // To URDF: the expansion, and a note saying so.
+    let urdf = temp("leg.urdf");
+    let text = ok(&kinetree(&["convert", model_s, urdf.to_str().unwrap()]));
+    assert!(
+        text.contains(
+            "composite joint 'hip' is written as its 3 elementary joints and 2 virtual links"
+        ),
+        "{text}"
+    );
+    // ik: the answer is keyed by composite joint.
+    let text = ok(&kinetree(&[
+        "ik",
+        model_s,
+        "--frame",
+        "thigh",
+        "--target",
+        "0.1,0.2,-0.05,0,0,0",
+        "--json",
+    ]));
+    let answer: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
+    let q = answer["q"].as_object().unwrap();
+    assert!(
+        q.contains_key("hip") && q.contains_key("knee") && !q.contains_key("hip.ry"),
+        "{text}"
+    );
+    assert_eq!(q["hip"].as_array().unwrap().len(), 2, "{text}");
 }
 
 #[test]

@@ -126,10 +126,12 @@ fn override_positions(
     let given = super::parse_named_in(model, Some(spec), false, units)?;
     for entry in spec.split(',').filter(|e| !e.trim().is_empty()) {
         let name = entry.split_once('=').map_or(entry, |(n, _)| n).trim();
-        let Some(j) = model.joint_index(name) else {
-            continue;
+        // A composite joint by its name (its whole block), or one elementary joint.
+        let r = match (model.user_joint_index(name), model.joint_index(name)) {
+            (Some(u), _) => model.user_joint_q_range(u),
+            (None, Some(j)) => model.joint_q_range(j),
+            (None, None) => continue,
         };
-        let r = model.joint_q_range(j);
         q[r.clone()].copy_from_slice(&given[r]);
     }
     Ok(q)
@@ -163,6 +165,14 @@ fn urdf_losses(model: &Model) -> Vec<String> {
         notes.push(format!(
             "{} named frame(s) are not written (URDF has no frames)",
             model.frames().len()
+        ));
+    }
+    for c in model.composites() {
+        notes.push(format!(
+            "composite joint '{}' is written as its {} elementary joints and {} virtual links (URDF has no composite joint)",
+            c.spec.name,
+            c.joints.len(),
+            c.links.len()
         ));
     }
     notes

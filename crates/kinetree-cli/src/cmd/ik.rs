@@ -114,11 +114,11 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     );
     let (length_unit, angle_unit) = (units.length.as_str(), units.angle.as_str());
     let values: Vec<(String, Vec<f64>)> = model
-        .moving_joints()
+        .moving_user_joints()
         .map(|j| {
             (
-                model.joint(j).name.clone(),
-                q_out[model.joint_q_range(j)].to_vec(),
+                model.user_joints()[j].name.clone(),
+                q_out[model.user_joint_q_range(j)].to_vec(),
             )
         })
         .collect();
