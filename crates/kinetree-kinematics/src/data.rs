@@ -111,6 +111,9 @@ pub struct KinematicsData {
     /// Per link: its body, and whether the link frame is the body frame (placement copied, not
     /// multiplied).
     pub(crate) link_on_body_frame: Vec<bool>,
+    /// Per body: its joint is revolute about x, y or z (0, 1, 2) and its placement does not
+    /// rotate, so forward kinematics turns the parent's rotation about that axis; 3 otherwise.
+    pub(crate) turn_axis: Vec<u8>,
     pub(crate) world_from_frame: Vec<Se3>,
     /// Joint Jacobian columns in the world frame (twists at the world origin), one per DoF.
     pub(crate) jacobian: Vec<Motion>,
@@ -171,6 +174,22 @@ impl KinematicsData {
             world_from_link: vec![Se3::IDENTITY; model.links().len()],
             link_on_body_frame: (0..model.links().len())
                 .map(|l| *model.link_body(l).1 == Se3::IDENTITY)
+                .collect(),
+            turn_axis: model
+                .bodies()
+                .iter()
+                .enumerate()
+                .map(|(i, b)| match JointModel::from_body(b).axis_index() {
+                    Some((k, true))
+                        if i > 0
+                            && b.parent != 0
+                            && b.mimic.is_none()
+                            && b.placement.rotation == glam::DMat3::IDENTITY =>
+                    {
+                        k as u8
+                    }
+                    _ => 3,
+                })
                 .collect(),
             world_from_frame: vec![Se3::IDENTITY; model.frames().len()],
             jacobian: vec![Motion::ZERO; model.nv()],

@@ -6,7 +6,6 @@ use crate::error::{KinematicsError, check_q, check_vector};
 use crate::joint::sin_cos;
 use crate::joint::transform::{axis_rotation, rotate_about_axis};
 use kinetree_model::Model;
-use kinetree_model::spatial::glam::DMat3;
 use kinetree_model::spatial::{Motion, Se3};
 
 /// Computes the world placement of every body and link for configuration `q` (length
@@ -151,11 +150,8 @@ pub(crate) fn placements(model: &Model, data: &mut KinematicsData, q: &[f64]) {
         // of legged robots and humanoids): the world rotation is the parent's turned about that
         // axis, two columns of three, instead of a 3x3 product. Same numbers as the product
         // (it only skips multiplications by 0 and 1).
-        if let (Some((k, true)), None, true) = (
-            jm.axis_index(),
-            &b.mimic,
-            b.parent != 0 && b.placement.rotation == DMat3::IDENTITY,
-        ) {
+        let k = usize::from(data.turn_axis[i]);
+        if k < 3 {
             let (s, c) = sin_cos(q[b.idx_q]);
             let t = b.placement.translation;
             data.parent_from_body[i] = Se3::new(axis_rotation(k, s, c), t);
