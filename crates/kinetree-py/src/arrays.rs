@@ -64,9 +64,13 @@ pub(crate) fn states(
     let values = match obj.cast::<PyArrayDyn<f64>>() {
         Ok(array) if array.is_c_contiguous() => {
             let count = count_of(array.shape(), name, width, family)?;
-            let values = array.to_vec().map_err(|e| {
+            let unreadable = |e: &dyn std::fmt::Display| {
                 family.err(format!("{name} cannot be read as a float64 buffer: {e}"))
-            })?;
+            };
+            let readonly = array.try_readonly().map_err(|e| unreadable(&e))?;
+            let slice = readonly.as_slice().map_err(|e| unreadable(&e))?;
+            let mut values = reserve(slice.len(), name, family)?;
+            values.extend_from_slice(slice);
             (values, count)
         }
         _ => converted(obj, name, width, family)?,
@@ -144,11 +148,35 @@ fn converted(
         })?;
     let count = count_of(array.shape(), name, width, family)?;
     let view = array.as_array();
-    let values = match view.as_slice() {
-        Some(s) => s.to_vec(),
-        None => view.iter().copied().collect(),
-    };
+    // A broadcast view (`np.broadcast_to(q, (10**9, nq))`) is small in memory but not its copy.
+    let mut values = reserve(view.len(), name, family)?;
+    match view.as_slice() {
+        Some(s) => values.extend_from_slice(s),
+        None => values.extend(view.iter().copied()),
+    }
     Ok((values, count))
+}
+
+/// An empty vector with room for `len` values, or an error naming `what` when that much memory
+/// cannot be had: a failed allocation would abort the interpreter.
+pub(crate) fn reserve(len: usize, what: &str, family: Family) -> PyResult<Vec<f64>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len)
+        .map_err(|_| too_big(len, what, family))?;
+    Ok(v)
+}
+
+/// Refuses a result of `len` values that cannot be allocated (checked before numpy allocates it).
+pub(crate) fn fits(len: Option<usize>, what: &str, family: Family) -> PyResult<()> {
+    let len = len.ok_or_else(|| too_big(usize::MAX, what, family))?;
+    reserve(len, what, family).map(drop)
+}
+
+fn too_big(len: usize, what: &str, family: Family) -> PyErr {
+    family.err(format!(
+        "{what}: {len} values ({:.1e} bytes) do not fit in memory",
+        len as f64 * 8.0
+    ))
 }
 
 /// A finite scalar argument.
@@ -471,6 +499,7 @@ where
             let mut shape = Vec::with_capacity(out_shape.len() + 1);
             shape.push(n);
             shape.extend_from_slice(out_shape);
+            fits(n.checked_mul(size), "the stacked result", family)?;
             let array = PyArrayDyn::<f64>::zeros(py, IxDyn(&shape), false);
             {
                 let mut writable = array.readwrite();

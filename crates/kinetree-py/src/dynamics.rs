@@ -3,7 +3,8 @@
 //! damping, friction and armature left out), as Pinocchio computes them.
 
 use crate::arrays::{
-    ArrayPair, States, finite, in_block, new_data, run, run_blocks, run_parts, states, to_numpy,
+    ArrayPair, States, finite, in_block, new_data, reserve, run, run_blocks, run_parts, states,
+    to_numpy,
 };
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
@@ -326,12 +327,22 @@ impl PyModel {
             )));
         }
         let model = &*self.model;
+        // steps = 10**15 must be an error, not an aborted interpreter.
+        let states = steps.checked_add(1);
+        let mut qs = reserve(
+            states.and_then(|n| n.checked_mul(nq)).unwrap_or(usize::MAX),
+            "simulate's positions (steps + 1, nq)",
+            F,
+        )?;
+        let mut vs = reserve(
+            states.and_then(|n| n.checked_mul(nv)).unwrap_or(usize::MAX),
+            "simulate's velocities (steps + 1, nv)",
+            F,
+        )?;
         let (qs, vs) = py
             .detach(|| {
                 let mut data = new_data(model);
                 let (mut q, mut v) = (q0.values.clone(), v0.values.clone());
-                let mut qs = Vec::with_capacity((steps + 1) * nq);
-                let mut vs = Vec::with_capacity((steps + 1) * nv);
                 qs.extend_from_slice(&q);
                 vs.extend_from_slice(&v);
                 for i in 0..steps {

@@ -216,4 +216,14 @@ def test_huge_sizes_are_refused_not_attempted(setup):
     ]:
         with pytest.raises(ACCEPTED):
             fn(*args, **kwargs)
+    # Allocations that would abort the interpreter are refused with the reason. A broadcast
+    # view of 10**9 states is small; its copy or the stacked result would not be.
+    many = np.broadcast_to(model.neutral(), (10**9, model.nq))
+    for fn, args, kwargs in [
+        (model.simulate, [model.neutral(), np.zeros(model.nv)], {"steps": 10**15}),
+        (model.link_placements, [many], {}),
+        (model.frame_jacobian, [many, "panda_hand"], {}),
+    ]:
+        with pytest.raises(ValueError, match="do not fit in memory"):
+            fn(*args, **kwargs)
 
