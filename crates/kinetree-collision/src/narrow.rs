@@ -136,20 +136,20 @@ pub(crate) fn proximity(
         }));
     }
     // A ball against a primitive: exact closed forms in the primitive's frame.
-    if let Kind::Ball(ball) = a.kind {
-        if let Some(r) = ball_primitive(a.pose.translation, ball.radius, b.kind, b.pose) {
-            return Ok((r.distance <= max_dist).then_some(Witness {
-                distance: r.distance,
-                point_a: r.point_b,
-                point_b: r.point_a,
-                normal: -r.normal,
-            }));
-        }
+    if let Kind::Ball(ball) = a.kind
+        && let Some(r) = ball_primitive(a.pose.translation, ball.radius, b.kind, b.pose)
+    {
+        return Ok((r.distance <= max_dist).then_some(Witness {
+            distance: r.distance,
+            point_a: r.point_b,
+            point_b: r.point_a,
+            normal: -r.normal,
+        }));
     }
-    if let Kind::Ball(ball) = b.kind {
-        if let Some(r) = ball_primitive(b.pose.translation, ball.radius, a.kind, a.pose) {
-            return Ok((r.distance <= max_dist).then_some(r));
-        }
+    if let Kind::Ball(ball) = b.kind
+        && let Some(r) = ball_primitive(b.pose.translation, ball.radius, a.kind, a.pose)
+    {
+        return Ok((r.distance <= max_dist).then_some(r));
     }
     let pos12 = a.pose.inv_mul(b.pose);
     let local: Option<Local> = match (a.kind, b.kind) {
@@ -249,11 +249,10 @@ where
 {
     // Distance queries: the lean GJK/EPA first; parry's GJK/EPA when they do not settle, and
     // for collision queries, where parry's GJK stops at the first separating direction.
-    if max_dist > 0.0 {
-        if let Some(local) = crate::gjk::signed_distance(pos12, g1, g2, dir, &mut scratch.polytope)
-        {
-            return (local.3 <= max_dist).then_some(local);
-        }
+    if max_dist > 0.0
+        && let Some(local) = crate::gjk::signed_distance(pos12, g1, g2, dir, &mut scratch.polytope)
+    {
+        return (local.3 <= max_dist).then_some(local);
     }
     scratch
         .simplex
@@ -307,10 +306,11 @@ fn mesh_convex(
     let mut best: Option<Local> = None;
     for id in bvh.intersect_aabb(&aabb) {
         let tri = mesh.triangle(id);
-        if let Some(local) = support(&pos12, &tri, convex, f64::INFINITY, scratch) {
-            if local.3 < 0.0 && best.is_none_or(|b| local.3 < b.3) {
-                best = Some(local);
-            }
+        if let Some(local) = support(&pos12, &tri, convex, f64::INFINITY, scratch)
+            && local.3 < 0.0
+            && best.is_none_or(|b| local.3 < b.3)
+        {
+            best = Some(local);
         }
     }
     if best.is_none() {

@@ -151,7 +151,7 @@ pub fn solve_mass_matrix(
     if nv == 0 {
         return check_len("rhs", b, 0);
     }
-    if b.is_empty() || b.len() % nv != 0 {
+    if b.is_empty() || !b.len().is_multiple_of(nv) {
         return Err(DynamicsError::DimensionMismatch {
             what: "rhs",
             expected: nv * (b.len() / nv).max(1),

@@ -313,10 +313,10 @@ fn outputs_from_si(model: &Model, response: &mut Value, units: super::UnitsArg) 
             .into_iter()
             .flatten()
         {
-            if let Some(d) = pair.get_mut("distance") {
-                if let Some(f) = d.as_f64() {
-                    *d = Value::from(f * scale);
-                }
+            if let Some(d) = pair.get_mut("distance")
+                && let Some(f) = d.as_f64()
+            {
+                *d = Value::from(f * scale);
             }
         }
     }

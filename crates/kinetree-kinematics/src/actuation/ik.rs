@@ -184,10 +184,10 @@ impl ActuatedChain {
         // Joints no group drives are actuated coordinates themselves.
         let mut state = self.actuated_state().to_vec();
         for (k, name) in self.actuator_names().iter().enumerate() {
-            if let Some(j) = model.joint_index(name) {
-                if !grouped.contains(name) {
-                    state[k] = q[model.joint_q_range(j).start];
-                }
+            if let Some(j) = model.joint_index(name)
+                && !grouped.contains(name)
+            {
+                state[k] = q[model.joint_q_range(j).start];
             }
         }
         self.set_actuated_state(&state)?;

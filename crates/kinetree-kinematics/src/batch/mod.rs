@@ -122,7 +122,7 @@ pub fn batch_size(
             })
         };
     }
-    if len % per_state != 0 {
+    if !len.is_multiple_of(per_state) {
         return Err(KinematicsError::DimensionMismatch {
             what,
             expected: (len / per_state + 1) * per_state,

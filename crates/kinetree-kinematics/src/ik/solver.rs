@@ -396,7 +396,7 @@ impl IkSolver {
                 if it >= params.max_iterations_per_try {
                     break;
                 }
-                if total % 4 == 0
+                if total.is_multiple_of(4)
                     && let Some(d) = deadline
                     && Instant::now() >= d
                 {
