@@ -30,7 +30,8 @@ pub(crate) struct Args {
     /// Reach the position only; the orientation is free.
     #[arg(long)]
     position_only: bool,
-    /// Seed of the random restarts.
+    /// Seed of the random restarts (the answer depends only on the target, the start and this
+    /// seed: the command has no wall-clock budget, its 10 000-step budget bounds a solve).
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Start configuration `name=value,…` (neutral otherwise).
@@ -88,8 +89,11 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         IkTarget::new(frame, Se3::new(rotation, position))
     };
     let q0 = super::parse_named_in(&model, args.start.as_deref(), false, args.units)?;
+    // No wall-clock budget: a budget makes the answer depend on the machine's load (the same
+    // command could print another solution when the machine is busy).
     let params = IkParams {
         seed: args.seed,
+        time_budget: None,
         ..IkParams::default()
     };
     let mut solver = IkSolver::new(&model, params);
