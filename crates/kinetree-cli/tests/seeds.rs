@@ -549,6 +549,41 @@ fn a_composite_joint_is_one_joint_at_the_command_line() {
         "{text}"
     );
     assert_eq!(q["hip"].as_array().unwrap().len(), 2, "{text}");
+    // simulate: the final state and the trajectory are keyed by composite joint, and the viewer
+    // plays that trajectory back.
+    let traj = temp("leg-traj.json");
+    let text = ok(&kinetree(&[
+        "simulate",
+        model_s,
+        "--duration",
+        "0.01",
+        "--q",
+        "hip=0.3:-0.2",
+        "--out",
+        traj.to_str().unwrap(),
+    ]));
+    let finals: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("final q:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .map(|l| l.split_whitespace().next().unwrap())
+        .collect();
+    assert_eq!(finals, ["hip", "knee"], "{text}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&traj).unwrap()).unwrap();
+    let first = doc["trajectory"][0]["q"].as_object().unwrap();
+    assert_eq!(first.keys().collect::<Vec<_>>(), ["hip", "knee"]);
+    assert_eq!(first["hip"], serde_json::json!([0.3, -0.2]));
+    let page = temp("leg-view.html");
+    ok(&kinetree(&[
+        "view",
+        model_s,
+        "--trajectory",
+        traj.to_str().unwrap(),
+        "--export",
+        page.to_str().unwrap(),
+    ]));
 }
 
 #[test]

@@ -104,16 +104,17 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let e0 = mechanical_energy(&model, &mut data, &q, &v)?;
     // Positions of the 1-DoF joints (the plot's curves) and energy, sampled about 1000 times.
     let every = (steps / 1000).max(1);
+    // By user joint: a composite joint is one joint (its pieces are not listed on their own).
     let plotted: Vec<usize> = model
-        .moving_joints()
-        .filter(|&j| model.joint_q_range(j).len() == 1)
+        .moving_user_joints()
+        .filter(|&j| model.user_joint_q_range(j).len() == 1)
         .take(10)
         .collect();
     let mut curves: Vec<Vec<(f64, f64)>> = vec![Vec::new(); plotted.len()];
     let mut energy = vec![(0.0, e0)];
     let record = |t: f64, q: &[f64], curves: &mut Vec<Vec<(f64, f64)>>| {
         for (c, &j) in curves.iter_mut().zip(&plotted) {
-            c.push((t, q[model.joint_q_range(j).start]));
+            c.push((t, q[model.user_joint_q_range(j).start]));
         }
     };
     record(0.0, &q, &mut curves);
@@ -216,28 +217,31 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     )?;
     limits.print(&model, limit_model, dissipated_by_stops)?;
     outln!("final q:")?;
-    for j in model.moving_joints() {
-        let x: Vec<String> = q[model.joint_q_range(j)]
+    for j in model.moving_user_joints() {
+        let x: Vec<String> = q[model.user_joint_q_range(j)]
             .iter()
             .map(|x| format!("{x:.6}"))
             .collect();
-        outln!("  {:<28} {}", model.joint(j).name, x.join(" "))?;
+        outln!("  {:<28} {}", model.user_joints()[j].name, x.join(" "))?;
     }
     if let Some(path) = &args.out {
         let trajectory: Vec<serde_json::Value> = samples
             .iter()
             .map(|(t, q)| {
                 let by_name: serde_json::Map<String, serde_json::Value> = model
-                    .moving_joints()
-                    .filter(|&j| model.joint(j).mimic.is_none())
+                    .moving_user_joints()
+                    .filter(|&j| {
+                        let u = &model.user_joints()[j];
+                        u.composite.is_some() || model.joint(u.joints.start).mimic.is_none()
+                    })
                     .map(|j| {
-                        let x = &q[model.joint_q_range(j)];
+                        let x = &q[model.user_joint_q_range(j)];
                         let value = if x.len() == 1 {
                             serde_json::json!(x[0])
                         } else {
                             serde_json::json!(x)
                         };
-                        (model.joint(j).name.clone(), value)
+                        (model.user_joints()[j].name.clone(), value)
                     })
                     .collect();
                 serde_json::json!({"t": t, "q": by_name})
@@ -251,7 +255,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     if let Some(path) = &args.plot {
         let names: Vec<&str> = plotted
             .iter()
-            .map(|&j| model.joint(j).name.as_str())
+            .map(|&j| model.user_joints()[j].name.as_str())
             .collect();
         let joints: Vec<Series<'_>> = names
             .iter()
@@ -303,15 +307,17 @@ pub(crate) fn run(args: &Args) -> Result<()> {
 /// have any.
 fn joint_terms_line(model: &kinetree::model::Model) -> String {
     let with = model
-        .moving_joints()
-        .filter(|&j| {
-            let d = model.joint(j).dynamics;
-            d.damping != 0.0 || d.friction != 0.0 || d.armature != 0.0
+        .moving_user_joints()
+        .filter(|&u| {
+            model.user_joints()[u].joints.clone().any(|j| {
+                let d = model.joint(j).dynamics;
+                d.damping != 0.0 || d.friction != 0.0 || d.armature != 0.0
+            })
         })
         .count();
     format!(
         "joint damping, friction and armature: on, from the model ({with} of {} moving joints have some; --no-joint-dynamics for rigid-body dynamics only)",
-        model.moving_joints().count()
+        model.moving_user_joints().count()
     )
 }
 
@@ -372,9 +378,12 @@ impl LimitLog {
             let Some((first, steps, excess, value)) = out else {
                 continue;
             };
-            let name = &model.joint(j).name;
-            let coordinate = if model.joint_q_range(j).len() > 1 {
-                format!("{name}[{}]", iq - model.joint_q_range(j).start)
+            // Named by user joint: a composite joint's piece is `composite[k]`.
+            let user = model.user_joint_of(j);
+            let name = &model.user_joints()[user].name;
+            let range = model.user_joint_q_range(user);
+            let coordinate = if range.len() > 1 {
+                format!("{name}[{}]", iq - range.start)
             } else {
                 name.clone()
             };
