@@ -353,9 +353,14 @@ fn base64_decode(s: &str) -> Vec<u8> {
 
 /// `kinetree view panda.urdf --no-open --port 0`; the URL it prints.
 fn serve(extra: &[&str]) -> (Killed, String) {
+    serve_model(&panda(), extra)
+}
+
+/// `kinetree view MODEL --no-open EXTRA…`, and the URL it serves.
+fn serve_model(model: &Path, extra: &[&str]) -> (Killed, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_kinetree"))
         .arg("view")
-        .arg(panda())
+        .arg(model)
         .args(["--no-open"])
         .args(extra)
         .stdout(Stdio::piped())
@@ -472,4 +477,45 @@ fn the_exported_html_renders_from_file_with_the_network_off() {
     let image = session.screenshot();
     assert_robot_drawn(&session, &image);
     std::fs::remove_file(&file).unwrap();
+}
+
+/// A leg whose hip is a composite joint (two rotations) and whose knee is a revolute joint.
+const LEG: &str = r#"{"name": "leg",
+  "links": [
+    {"name": "pelvis", "visuals": [{"geometry": {"type": "box", "size": [0.2, 0.2, 0.1]}}]},
+    {"name": "thigh", "inertial": {"origin": {"xyz": [0, 0, -0.2]}, "mass": 1.5,
+       "inertia": {"ixx": 0.03, "iyy": 0.04, "izz": 0.02}},
+     "visuals": [{"origin": {"xyz": [0, 0, -0.2]}, "geometry": {"type": "box", "size": [0.05, 0.05, 0.4]}}]},
+    {"name": "shank", "inertial": {"origin": {"xyz": [0, 0, -0.2]}, "mass": 1.0,
+       "inertia": {"ixx": 0.03, "iyy": 0.04, "izz": 0.02}},
+     "visuals": [{"origin": {"xyz": [0, 0, -0.2]}, "geometry": {"type": "box", "size": [0.05, 0.05, 0.4]}}]}],
+  "joints": [
+    {"name": "hip", "type": "composite", "parent": "pelvis", "child": "thigh",
+     "factors": [{"param": "ry", "limits": {"lower": -1, "upper": 1}},
+                 {"param": "rx", "limits": {"lower": -1, "upper": 1}}]},
+    {"name": "knee", "type": "revolute", "parent": "thigh", "child": "shank",
+     "origin": {"xyz": [0, 0, -0.4]}, "axis": [0, 1, 0], "limits": {"lower": 0, "upper": 2}}]}"#;
+
+#[test]
+fn a_composite_joint_has_a_slider_per_variable_and_no_virtual_link_is_an_ik_target() {
+    let Some(session) = Session::new("composite") else {
+        return;
+    };
+    let model = std::env::temp_dir().join(format!("kinetree-view-leg-{}.json", std::process::id()));
+    std::fs::write(&model, LEG).unwrap();
+    let (_server, url) = serve_model(&model, &[]);
+    session.go(&url);
+    session.wait_for(
+        "document.body.dataset.ready === 'true' && kinetree.ready",
+        "the leg",
+    );
+    let options = session.script(
+        "return Array.from(document.querySelectorAll('#ik-frame option')).map((o) => o.textContent);",
+    );
+    assert_eq!(options, json!(["pelvis", "thigh", "shank"]));
+    let sliders = session.script(
+        "return Array.from(document.querySelectorAll('#joints input[type=range]')).map((e) => e.dataset.joint);",
+    );
+    assert_eq!(sliders, json!(["hip.ry", "hip.rx", "knee"]));
+    let _ = std::fs::remove_file(&model);
 }

@@ -502,13 +502,14 @@
       state.q = model.initial_q.slice();
       $('title').textContent = model.name;
       document.title = model.name + ' — kinetree view';
-      for (const name of model.links.map((l) => l.name).concat(model.frames)) {
+      // IK targets: links and frames, not a composite joint's internal (virtual) links.
+      const names = model.links.filter((l) => !l.virtual).map((l) => l.name).concat(model.frames);
+      for (const name of names) {
         const o = document.createElement('option');
         o.textContent = name;
         $('ik-frame').appendChild(o);
       }
       // A hand, tool or end-effector link if there is one, else the last link.
-      const names = model.links.map((l) => l.name).concat(model.frames);
       $('ik-frame').value = names.find((n) => /hand|tool|ee|tcp|gripper/i.test(n)) || names[names.length - 1];
       if (EMBED) for (const id of ['ik-box', 'neutral', 'random']) $(id).hidden = true;
       const problems = await buildRobot(model);
