@@ -50,9 +50,9 @@ pub fn rnea_derivatives<'d>(
 ) -> Result<RneaDerivatives<'d>, DynamicsError> {
     check_inputs(model, &data.dynamics, q, Some(v), Some(a))?;
     let mut dq = core::mem::take(&mut data.dtau_dq);
-    sweep::<true>(model, data, q, v, a, None, &mut dq);
+    let bounded = sweep::<true>(model, data, q, v, a, None, &mut dq);
     data.dtau_dq = dq;
-    check_rnea_outputs(model, data)?;
+    check_rnea_outputs(model, data, bounded)?;
     Ok(data.rnea_result())
 }
 
@@ -76,9 +76,9 @@ pub fn rnea_derivatives_with_external_forces<'d>(
     check_inputs(model, &data.dynamics, q, Some(v), Some(a))?;
     fext.check_model(model)?;
     let mut dq = core::mem::take(&mut data.dtau_dq);
-    sweep::<true>(model, data, q, v, a, Some(fext), &mut dq);
+    let bounded = sweep::<true>(model, data, q, v, a, Some(fext), &mut dq);
     data.dtau_dq = dq;
-    check_rnea_outputs(model, data)?;
+    check_rnea_outputs(model, data, bounded)?;
     Ok(data.rnea_result())
 }
 
@@ -95,24 +95,55 @@ pub fn generalized_gravity_derivatives<'d>(
     check_inputs(model, &data.dynamics, q, None, None)?;
     let mut dq = core::mem::take(&mut data.dg_dq);
     let zeros = core::mem::take(&mut data.zeros);
-    sweep::<false>(model, data, q, &zeros, &zeros, None, &mut dq);
+    let bounded = sweep::<false>(model, data, q, &zeros, &zeros, None, &mut dq);
     data.zeros = zeros;
     data.dg_dq = dq;
-    crate::error::check_output(model, &data.dynamics, "dg_dq", &data.dg_dq)?;
+    if !bounded {
+        crate::error::check_output(model, &data.dynamics, "dg_dq", &data.dg_dq)?;
+    }
     Ok(&data.dg_dq)
 }
 
 /// An overflow (finite inputs, huge lengths or velocities) is an error, never NaN in an `Ok`.
-fn check_rnea_outputs(model: &Model, data: &DerivativesData) -> Result<(), DynamicsError> {
-    for (what, x) in [
-        ("tau", &data.tau),
+///
+/// `τ` is scanned. The matrices are scanned only when the sweep could not bound them
+/// (`bounded`, see [`backward`]), apart from the diagonals the joint terms add to.
+fn check_rnea_outputs(
+    model: &Model,
+    data: &DerivativesData,
+    bounded: bool,
+) -> Result<(), DynamicsError> {
+    crate::error::check_output(model, &data.dynamics, "tau", &data.tau)?;
+    let matrices = [
         ("dtau_dq", &data.dtau_dq),
         ("dtau_dv", &data.dtau_dv),
         ("dtau_da", &data.dtau_da),
-    ] {
-        crate::error::check_output(model, &data.dynamics, what, x)?;
+    ];
+    if !bounded {
+        for (what, x) in matrices {
+            crate::error::check_output(model, &data.dynamics, what, x)?;
+        }
+    } else if data.dynamics.has_joint_terms {
+        let nv = data.nv;
+        for (what, x) in &matrices[1..] {
+            if let Some(k) = (0..nv).find(|&k| !x[k * nv + k].is_finite()) {
+                return Err(crate::error::overflow(
+                    model,
+                    &data.dynamics,
+                    what,
+                    k,
+                    x[k * nv + k],
+                ));
+            }
+        }
     }
     Ok(())
+}
+
+/// `|x|` summed with `|y|`, component-wise, for the bounds of [`backward`].
+#[inline(always)]
+fn abs2(x: DVec3, y: DVec3) -> DVec3 {
+    x.abs() + y.abs()
 }
 
 /// `Bᵀ·s` for the inertia-variation operator `B = [[0, -2[p]×], [0, d]]` of a subtree with
@@ -142,6 +173,7 @@ fn variation_block(y: &WorldInertia, v: &Motion, h: &Force) -> DMat3 {
 }
 
 /// The sweeps. With `FULL`, `∂τ/∂v` and `∂τ/∂a` are written too (else only `∂τ/∂q`, into `dq`).
+/// True when every matrix entry written is proven finite (see [`backward`]).
 pub(super) fn sweep<const FULL: bool>(
     model: &Model,
     data: &mut DerivativesData,
@@ -150,7 +182,7 @@ pub(super) fn sweep<const FULL: bool>(
     a: &[f64],
     fext: Option<&ExternalForces>,
     dq: &mut [f64],
-) {
+) -> bool {
     forward_velocity(model, data, q, v);
     let has_external = apply_external(data, fext);
     let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
@@ -168,7 +200,7 @@ pub(super) fn sweep<const FULL: bool>(
         }
         forward_acceleration(data, i, b, ap, ai);
     }
-    backward::<FULL>(model, data, v, a, has_external, dq);
+    backward::<FULL>(model, data, v, a, has_external, dq)
 }
 
 /// Forward, what does not depend on the acceleration: placements, velocities, the velocity
@@ -283,6 +315,19 @@ pub(super) fn apply_external(data: &mut DerivativesData, fext: Option<&ExternalF
 }
 
 /// Backward: composite quantities and the matrix rows (the forward passes done at `a`).
+///
+/// Only the entries that can be nonzero are written: row `r` at the columns of its joint's
+/// subtree and of its ancestors. The others are the same for every call and stay at the zero
+/// the buffers were made with.
+///
+/// Returns true when every entry written is proven finite without reading the matrices back.
+/// Each entry is a sum of products `Σ aₖ·bₖ` (plus the joint terms on the diagonal, which
+/// are not covered): a left factor (`s` of the row, or `Y·s`, `Bᵀ·s` and `Eᵀ·s` of a row
+/// against its ancestors) against right factors (the force and acceleration derivatives of
+/// the columns). So `|entry| ≤ L·R` with `L` the sum of `|aₖ|` over every left factor and
+/// `R` the sum of `|bₖ|` over every right factor; both sums are accumulated on the way, and
+/// `L·R < 1e300` (false for an infinite or NaN sum) proves every entry finite with rounding
+/// to spare. Otherwise the caller scans the matrices.
 pub(super) fn backward<const FULL: bool>(
     model: &Model,
     data: &mut DerivativesData,
@@ -290,15 +335,11 @@ pub(super) fn backward<const FULL: bool>(
     a: &[f64],
     has_external: bool,
     dq: &mut [f64],
-) {
+) -> bool {
     let nv = data.nv;
     let bodies = model.bodies();
     let nb = bodies.len();
-    dq.fill(0.0);
-    if FULL {
-        data.dtau_dv.fill(0.0);
-        data.dtau_da.fill(0.0);
-    }
+    let (mut left, mut right) = (DVec3::ZERO, DVec3::ZERO);
     // Backward: composite quantities and the matrix rows.
     for i in (1..nb).rev() {
         let b = &bodies[i];
@@ -320,9 +361,22 @@ pub(super) fn backward<const FULL: bool>(
                 fq += e.mul(&s);
             }
             data.df_dq[d] = fq;
+            let sa = abs2(s.linear, s.angular);
+            left += sa;
+            right += sa
+                + abs2(fq.linear, fq.angular)
+                + abs2(data.da_dq[d].linear, data.da_dq[d].angular)
+                + abs2(data.dv_dq[d].linear, data.dv_dq[d].angular);
             if FULL {
-                data.df_da[d] = y.mul(&s);
-                data.df_dv[d] = y.mul(&data.da_dv[d]) + variation_mul(pm, &dm, &s);
+                let (fa, fv) = (
+                    y.mul(&s),
+                    y.mul(&data.da_dv[d]) + variation_mul(pm, &dm, &s),
+                );
+                data.df_da[d] = fa;
+                data.df_dv[d] = fv;
+                right += abs2(fa.linear, fa.angular)
+                    + abs2(fv.linear, fv.angular)
+                    + abs2(data.da_dv[d].linear, data.da_dv[d].angular);
             }
         }
         // Rows of this joint, columns of its subtree (itself included).
@@ -340,7 +394,9 @@ pub(super) fn backward<const FULL: bool>(
             }
         }
         for d in r0..r1 {
-            data.df_dq[d] += data.s[d].cross_force(&f);
+            let fq = data.df_dq[d] + data.s[d].cross_force(&f);
+            data.df_dq[d] = fq;
+            right += abs2(fq.linear, fq.angular);
         }
         // Rows of this joint, columns of its strict ancestors.
         let first_ancestor = if b.nv > 0 {
@@ -358,6 +414,9 @@ pub(super) fn backward<const FULL: bool>(
                 } else {
                     Force::ZERO
                 };
+                left += abs2(ys.linear, ys.angular)
+                    + abs2(bs.linear, bs.angular)
+                    + abs2(es.linear, es.angular);
                 let row = r * nv;
                 let mut j = first_ancestor;
                 while j != NO_PARENT {
@@ -397,4 +456,5 @@ pub(super) fn backward<const FULL: bool>(
             data.dtau_dv[k * nv + k] += dynamics.damping[k];
         }
     }
+    left.element_sum() * right.element_sum() < 1e300
 }

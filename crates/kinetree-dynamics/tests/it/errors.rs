@@ -566,4 +566,27 @@ fn derivatives_of_overflowing_states_are_errors_not_nan() {
     }
     // The cases Python found (q, v and a at ±1e308 for RNEA, q for gravity, v and τ for ABA).
     assert!(overflows >= 12, "{overflows} overflows");
+    // Finite results beyond the bound the sweep proves finiteness with (|entry| ≤ 1e300) are
+    // scanned and returned, not refused: at |v| = 1e152 the Coriolis terms pass 1e300.
+    for big in [1e152, -1e152] {
+        let v = vec![big; nv];
+        let d = rnea_derivatives(&model, &mut data, &zero_q, &v, &zero).unwrap();
+        let largest = [d.tau, d.dtau_dq, d.dtau_dv, d.dtau_da]
+            .iter()
+            .flat_map(|x| x.iter())
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        assert!(largest > 1e300 && largest.is_finite(), "{largest}");
+    }
+    // After the errors, the same data gives the results of a fresh one, bit for bit (the
+    // entries that are always zero are never written).
+    let q = vec![0.3; model.nq()];
+    let (v, a) = (vec![0.5; nv], vec![-0.7; nv]);
+    let mut fresh = DerivativesData::new(&model);
+    let want = rnea_derivatives(&model, &mut fresh, &q, &v, &a).unwrap();
+    let want = [want.tau, want.dtau_dq, want.dtau_dv, want.dtau_da].map(<[f64]>::to_vec);
+    let got = rnea_derivatives(&model, &mut data, &q, &v, &a).unwrap();
+    assert_eq!(
+        [got.tau, got.dtau_dq, got.dtau_dv, got.dtau_da].map(<[f64]>::to_vec),
+        want
+    );
 }
