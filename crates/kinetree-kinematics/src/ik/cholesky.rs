@@ -32,6 +32,17 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// per pivot. Returns `false` when a pivot is not positive (the matrix is not numerically
 /// positive definite).
 pub(crate) fn factor(a: &mut [f64], n: usize, inv_d: &mut [f64]) -> bool {
+    match n {
+        1 => return factor_fixed::<1>(a, inv_d),
+        2 => return factor_fixed::<2>(a, inv_d),
+        3 => return factor_fixed::<3>(a, inv_d),
+        4 => return factor_fixed::<4>(a, inv_d),
+        5 => return factor_fixed::<5>(a, inv_d),
+        6 => return factor_fixed::<6>(a, inv_d),
+        7 => return factor_fixed::<7>(a, inv_d),
+        8 => return factor_fixed::<8>(a, inv_d),
+        _ => {}
+    }
     for i in 0..n {
         let (done, rest) = a.split_at_mut(i * n);
         let row = &mut rest[..n];
@@ -55,8 +66,83 @@ pub(crate) fn factor(a: &mut [f64], n: usize, inv_d: &mut [f64]) -> bool {
     true
 }
 
+/// [`factor`] for a size known at compile time (an arm's 6 x 6 or 7 x 7): the same
+/// elimination on a copy held in registers and on the stack, with the loops unrolled and no
+/// bounds checks inside; several times fewer instructions than the general loop at these sizes.
+#[inline(always)]
+fn factor_fixed<const N: usize>(a: &mut [f64], inv_d: &mut [f64]) -> bool {
+    let (Some(a), Some(inv_d)) = (a.get_mut(..N * N), inv_d.get_mut(..N)) else {
+        return false;
+    };
+    let mut l = [[0.0f64; N]; N];
+    let mut id = [0.0f64; N];
+    for i in 0..N {
+        // u_j = L_ij · D_j, from the finished rows of L.
+        let mut u = [0.0f64; N];
+        for j in 0..i {
+            let mut s = a[i * N + j];
+            for k in 0..j {
+                s -= u[k] * l[j][k];
+            }
+            u[j] = s;
+        }
+        // D_i = a_ii - Σ u_k L_ik, and L_ik = u_k / D_k.
+        let mut d = a[i * N + i];
+        for k in 0..i {
+            let lk = u[k] * id[k];
+            d -= u[k] * lk;
+            l[i][k] = lk;
+        }
+        // Also rejects NaN.
+        if d.is_nan() || d <= 0.0 {
+            return false;
+        }
+        id[i] = 1.0 / d;
+    }
+    for i in 0..N {
+        a[i * N..i * N + i].copy_from_slice(&l[i][..i]);
+    }
+    inv_d.copy_from_slice(&id);
+    true
+}
+
+/// [`solve`] for a size known at compile time.
+#[inline(always)]
+fn solve_fixed<const N: usize>(l: &[f64], inv_d: &[f64], b: &mut [f64]) {
+    let (Some(l), Some(inv_d), Some(b)) = (l.get(..N * N), inv_d.get(..N), b.get_mut(..N)) else {
+        return;
+    };
+    let mut x = [0.0f64; N];
+    x.copy_from_slice(b);
+    for i in 0..N {
+        for k in 0..i {
+            x[i] -= l[i * N + k] * x[k];
+        }
+    }
+    for i in 0..N {
+        x[i] *= inv_d[i];
+    }
+    for i in (0..N).rev() {
+        for k in i + 1..N {
+            x[i] -= l[k * N + i] * x[k];
+        }
+    }
+    b.copy_from_slice(&x);
+}
+
 /// Solves `L D Lᵀ x = b` in place (`b` becomes `x`) with the factor from [`factor`].
 pub(crate) fn solve(l: &[f64], n: usize, inv_d: &[f64], b: &mut [f64]) {
+    match n {
+        1 => return solve_fixed::<1>(l, inv_d, b),
+        2 => return solve_fixed::<2>(l, inv_d, b),
+        3 => return solve_fixed::<3>(l, inv_d, b),
+        4 => return solve_fixed::<4>(l, inv_d, b),
+        5 => return solve_fixed::<5>(l, inv_d, b),
+        6 => return solve_fixed::<6>(l, inv_d, b),
+        7 => return solve_fixed::<7>(l, inv_d, b),
+        8 => return solve_fixed::<8>(l, inv_d, b),
+        _ => {}
+    }
     for i in 0..n {
         b[i] -= dot(&l[i * n..i * n + i], &b[..i]);
     }
@@ -78,7 +164,7 @@ mod tests {
 
     #[test]
     fn solves_a_random_spd_system() {
-        for n in [1usize, 2, 5, 7, 13] {
+        for n in [1usize, 2, 5, 6, 7, 8, 9, 13] {
             let m = n + 2;
             let j: Vec<f64> = (0..m * n)
                 .map(|k| ((k * 7919 % 101) as f64) / 50.0 - 1.0)

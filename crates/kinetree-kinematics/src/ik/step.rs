@@ -22,8 +22,8 @@ impl Workspace {
         let q = &self.q_trial;
         for &i in &self.path {
             let b = &bodies[i];
+            // Only the world placements are read (the solve ends with a full forward kinematics).
             let local = data.joint_models[i].body_transform(b, q);
-            data.parent_from_body[i] = local;
             data.world_from_body[i] = if b.parent == 0 {
                 local
             } else {
