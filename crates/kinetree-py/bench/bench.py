@@ -14,9 +14,16 @@ and Pinocchio interleaved, so that machine load hits both alike. This is a bench
 The targets of issue #13: one call no slower than Pinocchio's (ratio ≤ 1), and a batched call at
 least 20 times faster per state than Pinocchio in a loop.
 
-Pinocchio's FK row is ``framesForwardKinematics``: a link's pose is a frame placement there, and
-``forwardKinematics`` alone places only the joints (kinetree returns every link's pose). Pinocchio
-writes into its ``Data`` and returns nothing; kinetree returns new arrays.
+Both sides are timed up to the numbers being in numpy arrays, as a Python user gets them.
+Pinocchio's ``computeFrameJacobian``, ``rnea``, ``crba`` (full symmetric M), ``aba`` and the
+derivative calls return new numpy arrays, as kinetree's do. Its FK (``framesForwardKinematics``: a
+link's pose is a frame placement there; ``forwardKinematics`` alone places only the joints) writes
+into its ``Data`` and returns nothing, so the "FK (all links)" row adds stacking the links' poses
+into one ``(nlinks, 4, 4)`` array (``np.array([data.oMf[i].homogeneous for i in links])``), which
+``link_placements`` returns. The row "FK (all links), into a buffer" is the other like-for-like
+pair: kinetree's ``link_placements(q, out=buffer)`` beside ``framesForwardKinematics`` alone, both
+writing into memory made once (Pinocchio's poses then stay in its ``Data``).
+Pinocchio's loops give each state its own ``v`` and ``a`` (or ``tau``), as the batched calls do.
 
 Pinocchio has no IK solver: its row is the closed-loop damped least-squares loop of Pinocchio's
 documentation (``log6`` error, ``computeFrameJacobian``, ``integrate``) run to the same
@@ -96,6 +103,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pin-site", help="site-packages of a virtualenv with pin installed")
     parser.add_argument("--robots", default=",".join(ROBOTS))
+    parser.add_argument("--calls", default="",
+                        help="comma-separated prefixes of the rows to run (\"FK,RNEA\"); all by default")
     parser.add_argument("--rounds", type=int, default=3,
                         help="interleaved rounds per timing (more rounds: a steadier minimum on a busy machine)")
     args = parser.parse_args()
@@ -127,38 +136,56 @@ def main():
             pq = pin.randomConfiguration(pm)
             pv, pa = rng.uniform(-1, 1, pm.nv), rng.uniform(-1, 1, pm.nv)
             PQ = [pin.randomConfiguration(pm) for _ in range(N)]
-            PQd = PQ[:nd]
+            PV = [rng.uniform(-1, 1, pm.nv) for _ in range(N)]
+            PA = [rng.uniform(-1, 1, pm.nv) for _ in range(N)]
+            PQd, PVd, PAd = PQ[:nd], PV[:nd], PA[:nd]
             lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+            links = [pm.getFrameId(name, pin.FrameType.BODY) for name in m.link_names]
+
+            def pin_poses(x):
+                pin.framesForwardKinematics(pm, pd, x)
+                return np.array([pd.oMf[i].homogeneous for i in links])
+        buffer = np.empty((len(m.link_names), 4, 4))
+        buffers = np.empty((N, len(m.link_names), 4, 4))
         calls = {
             "FK (all links)": (lambda: m.link_placements(q), lambda: m.link_placements(Q),
-                               (lambda: pin.framesForwardKinematics(pm, pd, pq)) if pin else None,
-                               (lambda: [pin.framesForwardKinematics(pm, pd, x) for x in PQ]) if pin else None),
+                               (lambda: pin_poses(pq)) if pin else None,
+                               (lambda: [pin_poses(x) for x in PQ]) if pin else None),
+            "FK (all links), into a buffer": (
+                lambda: m.link_placements(q, out=buffer), lambda: m.link_placements(Q, out=buffers),
+                (lambda: pin.framesForwardKinematics(pm, pd, pq)) if pin else None,
+                (lambda: [pin.framesForwardKinematics(pm, pd, x) for x in PQ]) if pin else None),
             "frame Jacobian": (lambda: m.frame_jacobian(q, frame), lambda: m.frame_jacobian(Q, frame),
                                (lambda: pin.computeFrameJacobian(pm, pd, pq, fid, lwa)) if pin else None,
                                (lambda: [pin.computeFrameJacobian(pm, pd, x, fid, lwa) for x in PQ]) if pin else None),
             "RNEA": (lambda: m.rnea(q, v, a), lambda: m.rnea(Q, V, A),
                      (lambda: pin.rnea(pm, pd, pq, pv, pa)) if pin else None,
-                     (lambda: [pin.rnea(pm, pd, x, pv, pa) for x in PQ]) if pin else None),
+                     (lambda: [pin.rnea(pm, pd, x, y, z) for x, y, z in zip(PQ, PV, PA)]) if pin else None),
             "CRBA": (lambda: m.crba(q), lambda: m.crba(Q),
                      (lambda: pin.crba(pm, pd, pq)) if pin else None,
                      (lambda: [pin.crba(pm, pd, x) for x in PQ]) if pin else None),
             "ABA": (lambda: m.aba(q, v, a), lambda: m.aba(Q, V, A),
                     (lambda: pin.aba(pm, pd, pq, pv, pa)) if pin else None,
-                    (lambda: [pin.aba(pm, pd, x, pv, pa) for x in PQ]) if pin else None),
+                    (lambda: [pin.aba(pm, pd, x, y, z) for x, y, z in zip(PQ, PV, PA)]) if pin else None),
             "RNEA derivatives": (lambda: m.rnea_derivatives(q, v, a), lambda: m.rnea_derivatives(Qd, Vd, Ad),
                                  (lambda: pin.computeRNEADerivatives(pm, pd, pq, pv, pa)) if pin else None,
-                                 (lambda: [pin.computeRNEADerivatives(pm, pd, x, pv, pa) for x in PQd]) if pin else None),
+                                 (lambda: [pin.computeRNEADerivatives(pm, pd, x, y, z) for x, y, z in zip(PQd, PVd, PAd)]) if pin else None),
             "ABA derivatives": (lambda: m.aba_derivatives(q, v, a), lambda: m.aba_derivatives(Qd, Vd, Ad),
                                 (lambda: pin.computeABADerivatives(pm, pd, pq, pv, pa)) if pin else None,
-                                (lambda: [pin.computeABADerivatives(pm, pd, x, pv, pa) for x in PQd]) if pin else None),
+                                (lambda: [pin.computeABADerivatives(pm, pd, x, y, z) for x, y, z in zip(PQd, PVd, PAd)]) if pin else None),
         }
+        wanted = [c.strip() for c in args.calls.split(",") if c.strip()]
         for name, (one, batch, pone, pbatch) in calls.items():
+            if wanted and not any(name.startswith(w) for w in wanted):
+                continue
             n = N_DERIVATIVES if "derivatives" in name else N
             t1, p1 = interleaved(one, pone, rounds=args.rounds)
             tb, pb = interleaved(batch, pbatch, rounds=args.rounds, repeat=3, number=1)
             rows.append((robot, name, t1, p1, tb / n, (pb / n) if pb else None))
             print(rows[-1][0], rows[-1][1], fmt(t1), fmt(p1), fmt(tb / n), fmt(pb / n if pb else None), flush=True)
 
+        if wanted and not any("IK".startswith(w) for w in wanted):
+            continue
         # One IK solve of a reachable pose, from the neutral configuration.
         ik = kinetree.IkSolver(m, time_budget=None, seed=0)
         goals = m.frame_placement(m.random_configuration(50, seed=3), frame)

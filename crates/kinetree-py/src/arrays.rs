@@ -22,6 +22,7 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyFloat;
 use rayon::prelude::*;
+use std::cell::RefCell;
 use std::sync::{Mutex, PoisonError};
 
 /// Two arrays returned together (`simulate`'s configurations and velocities, `bounds`' corners).
@@ -62,6 +63,14 @@ pub(crate) fn states(
     family: Family,
 ) -> PyResult<States> {
     let values = match obj.cast::<PyArrayDyn<f64>>() {
+        Ok(array) if array.is_c_contiguous() && array.len() <= SMALL_INPUT => {
+            // A small copy needs no memory check, nor numpy's borrow tracking: the GIL is held.
+            let count = count_of(array.shape(), name, width, family)?;
+            let values = array.to_vec().map_err(|e| {
+                family.err(format!("{name} cannot be read as a float64 buffer: {e}"))
+            })?;
+            (values, count)
+        }
         Ok(array) if array.is_c_contiguous() => {
             let count = count_of(array.shape(), name, width, family)?;
             let unreadable = |e: &dyn std::fmt::Display| {
@@ -94,6 +103,9 @@ pub(crate) fn states(
         name,
     })
 }
+
+/// Inputs of at most this many numbers are copied without a check that the copy fits in memory.
+const SMALL_INPUT: usize = 1 << 16;
 
 /// The expected shape of argument `name`, for messages.
 fn expected(width: usize) -> String {
@@ -399,6 +411,10 @@ const BLOCKS_PER_THREAD: usize = 8;
 /// States per block are a multiple of this, so that the batched kernels fill whole SIMD lanes.
 const LANES: usize = 8;
 
+/// Stacks of at most this many states run on the calling thread with the GIL held: one SIMD
+/// block, a few microseconds at most, less than handing it to the workers costs.
+const INLINE_STATES: usize = LANES;
+
 /// Runs the block computation `f` on the one state of `inputs`, here (the GIL held), with a
 /// workspace of the model's pool.
 fn one_state<S, F>(model: &PyModel, inputs: &[&States], out: &mut [f64], f: &F) -> PyResult<()>
@@ -433,6 +449,13 @@ where
         return Ok(());
     }
     let n_in = inputs.len();
+    if n <= INLINE_STATES {
+        // Too little work to pay for releasing the GIL and waking the workers.
+        return S::with(model, |scratch| {
+            f(scratch, n, &block_of(inputs, 0, n)[..n_in], out)
+        })
+        .map_err(stack_error);
+    }
     let threads = rayon::current_num_threads().max(1);
     let block = n
         .div_ceil(threads * BLOCKS_PER_THREAD)
@@ -464,51 +487,137 @@ where
             })
         })
     });
-    result.map_err(|failed| {
-        let (i, e) = &*failed;
-        family_of(e).err(format!("state {i}: {e}"))
-    })
+    result.map_err(stack_error)
 }
 
-/// Runs the block computation `f` on one state or on every state of a stack; returns a new
-/// numpy array of shape `out_shape`, or `(N, *out_shape)` for a stack of `N`, and the stack
-/// size.
+/// The Python error of a failed state of a stack, naming the state.
+#[allow(clippy::boxed_local, reason = "the error as the blocks return it")]
+fn stack_error(failed: Box<(usize, kinetree::Error)>) -> PyErr {
+    let (i, e) = &*failed;
+    family_of(e).err(format!("state {i}: {e}"))
+}
+
+/// The array a call writes its result into: the caller's `out` when given, checked to be a
+/// float64 ndarray of exactly `shape` and C-contiguous (errors of `family` name the expected
+/// shape; [`map_states`] refuses one that cannot be written); else a new zeroed array of `shape`, refused with an error when it would not fit
+/// in memory.
+pub(crate) fn output<'py>(
+    py: Python<'py>,
+    out: Option<&Bound<'py, PyAny>>,
+    shape: &[usize],
+    family: Family,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let Some(obj) = out else {
+        let len = shape.iter().try_fold(1usize, |n, &k| n.checked_mul(k));
+        fits(len, "the result", family)?;
+        return Ok(PyArrayDyn::<f64>::zeros(py, IxDyn(shape), false));
+    };
+    let wanted = || {
+        format!(
+            "out must be a C-contiguous, writeable float64 numpy array of shape {}",
+            shape_text(shape)
+        )
+    };
+    let Ok(array) = obj.cast::<PyArrayDyn<f64>>() else {
+        let got = match obj
+            .getattr(pyo3::intern!(py, "dtype"))
+            .and_then(|d| d.str())
+        {
+            Ok(dtype) => format!("an array of dtype {dtype}"),
+            Err(_) => format!(
+                "a {}",
+                obj.get_type()
+                    .name()
+                    .map_or_else(|_| "?".to_string(), |n| n.to_string())
+            ),
+        };
+        return Err(family.err(format!("{}; got {got}", wanted())));
+    };
+    if array.shape() != shape {
+        return Err(family.err(format!(
+            "{}; got shape {}",
+            wanted(),
+            shape_text(array.shape())
+        )));
+    }
+    if !array.is_c_contiguous() {
+        return Err(family.err(format!("{}; got a non-contiguous view", wanted())));
+    }
+    Ok(array.clone())
+}
+
+/// Runs a computation on one state or on every state of a stack and returns its results as one
+/// array of shape `out_shape`, or `(N, *out_shape)` for a stack of `N`, with the stack size.
 ///
-/// One state runs as [`one_state`] and is copied into the array; a stack runs as [`map_stack`],
-/// writing straight into the array. Both give each state exactly the same arithmetic.
-pub(crate) fn map_states<'py, S, F>(
+/// The array is the caller's `out` when given (see [`output`]), else a new one. One state runs
+/// as `one(out)`, here with the GIL held; a stack runs the block computation `f` as
+/// [`map_stack`]. Both write straight into the array, and give each state the same arithmetic.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the one map every per-state call goes through"
+)]
+pub(crate) fn map_states<'py, S, O, F>(
     py: Python<'py>,
     model: &PyModel,
     inputs: &[&States],
     out_shape: &[usize],
+    out: Option<&Bound<'py, PyAny>>,
     family: Family,
+    one: O,
     f: F,
 ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Option<usize>)>
 where
     S: Scratch,
+    O: FnOnce(&mut [f64]) -> PyResult<()>,
     F: Fn(&mut S, usize, &[&[f64]], &mut [f64]) -> BlockResult + Sync,
 {
     let size: usize = out_shape.iter().product();
-    match batch_count(inputs, family)? {
-        None => {
-            let mut out = vec![0.0; size];
-            one_state(model, inputs, &mut out, &f)?;
-            Ok((view(out_shape, &out)?.to_pyarray(py), None))
-        }
-        Some(n) => {
-            let mut shape = Vec::with_capacity(out_shape.len() + 1);
-            shape.push(n);
-            shape.extend_from_slice(out_shape);
-            fits(n.checked_mul(size), "the stacked result", family)?;
-            let array = PyArrayDyn::<f64>::zeros(py, IxDyn(&shape), false);
-            {
-                let mut writable = array.readwrite();
-                let out = writable.as_slice_mut()?;
-                map_stack(py, model, inputs, n, size, out, &f)?;
-            }
-            Ok((array, Some(n)))
+    let count = batch_count(inputs, family)?;
+    let mut shape = Vec::with_capacity(out_shape.len() + 1);
+    shape.extend(count);
+    shape.extend_from_slice(out_shape);
+    if count.is_none() && out.is_none() {
+        // One state into a new array: computed in a scratch buffer of this thread and copied into
+        // an array made for it (cheaper than a zeroed array and numpy's borrow tracking).
+        let array = with_scratch(size, |values| {
+            one(values)?;
+            PyResult::Ok(view(out_shape, values)?.to_pyarray(py))
+        })?;
+        return Ok((array, None));
+    }
+    let array = output(py, out, &shape, family)?;
+    {
+        let mut writable = array.try_readwrite().map_err(|e| {
+            family.err(format!(
+                "out cannot be written ({e}): pass a writeable float64 array of shape {}",
+                shape_text(&shape)
+            ))
+        })?;
+        let values = writable.as_slice_mut()?;
+        match count {
+            None => one(values)?,
+            Some(n) => map_stack(py, model, inputs, n, size, values, &f)?,
         }
     }
+    Ok((array, count))
+}
+
+thread_local! {
+    /// The result of a one-state call on this thread, before it is copied into its array.
+    static SCRATCH: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` with `len` numbers of this thread's scratch buffer (a fresh buffer when it is in use).
+fn with_scratch<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
+    SCRATCH.with(|s| match s.try_borrow_mut() {
+        Ok(mut s) => {
+            if s.len() < len {
+                s.resize(len, 0.0);
+            }
+            f(&mut s[..len])
+        }
+        Err(_) => f(&mut vec![0.0; len]),
+    })
 }
 
 /// `values` seen as an array of `shape` (row-major).
@@ -518,23 +627,40 @@ fn view<'a>(shape: &[usize], values: &'a [f64]) -> PyResult<ArrayViewD<'a, f64>>
     })
 }
 
-/// [`map_states`] of a block computation (a batched entry point of the Rust crates), as an
-/// array.
-pub(crate) fn run_blocks<'py, S, F>(
+/// [`map_states`] of a call with a batched entry point in the Rust crates: one state runs the
+/// one-state function `one(data, state, out)` with a pooled workspace (a batched kernel would
+/// compute a whole SIMD block for it), a stack runs the block computation `f`. Returns `out`
+/// when given, else a new array.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "map_states' arguments and the one-state function"
+)]
+pub(crate) fn run_blocks<'py, S, O, F>(
     py: Python<'py>,
     model: &PyModel,
     inputs: &[&States],
     out_shape: &[usize],
+    out: Option<&Bound<'py, PyAny>>,
     family: Family,
+    one: O,
     f: F,
 ) -> PyResult<Bound<'py, PyAny>>
 where
     S: Scratch,
+    O: FnOnce(&mut DynamicsData, &[&[f64]], &mut [f64]) -> Result<(), kinetree::Error>,
     F: Fn(&mut S, usize, &[&[f64]], &mut [f64]) -> BlockResult + Sync,
 {
-    Ok(map_states(py, model, inputs, out_shape, family, f)?
-        .0
-        .into_any())
+    let one = |values: &mut [f64]| {
+        <DynamicsData as Scratch>::with(model, |d| {
+            one(d, &block_of(inputs, 0, 1)[..inputs.len()], values)
+        })
+        .map_err(|e| to_py(&e, false))
+    };
+    Ok(
+        map_states(py, model, inputs, out_shape, out, family, one, f)?
+            .0
+            .into_any(),
+    )
 }
 
 /// [`run_with`] a dynamics workspace: the per-state calls of the kinematics and dynamics layers.
@@ -572,9 +698,12 @@ where
         one_state(model, inputs, &mut out, &f)?;
         return Ok(PyFloat::new(py, out[0]).into_any());
     }
-    Ok(map_states(py, model, inputs, out_shape, family, f)?
-        .0
-        .into_any())
+    let one = |values: &mut [f64]| one_state(model, inputs, values, &f);
+    Ok(
+        map_states(py, model, inputs, out_shape, None, family, one, &f)?
+            .0
+            .into_any(),
+    )
 }
 
 /// [`map_states`] for calls with `P` results of `nv x nv` each (the analytic derivatives):
@@ -608,7 +737,8 @@ where
             .map(|p| Ok(view(&[nv, nv], &out[p * size..(p + 1) * size])?.to_pyarray(py)))
             .collect::<PyResult<_>>()?
     } else {
-        let (all, count) = map_states(py, model, inputs, &[P, nv, nv], family, f)?;
+        let one = |values: &mut [f64]| one_state(model, inputs, values, &f);
+        let (all, count) = map_states(py, model, inputs, &[P, nv, nv], None, family, one, &f)?;
         let n = count.unwrap_or(1);
         let readonly = all.readonly();
         let values = readonly.as_slice()?;

@@ -10,9 +10,10 @@ use crate::errors::{Family, py_err};
 use crate::model::PyModel;
 use kinetree::dynamics::batch::{aba_batch, crba_batch, rnea_batch};
 use kinetree::dynamics::{
-    Integrator, aba_derivatives, center_of_mass, center_of_mass_jacobian, centroidal_momentum,
-    generalized_gravity, generalized_gravity_derivatives, kinetic_energy, mass_matrix_inverse,
-    nonlinear_effects, potential_energy, rnea_derivatives, step,
+    DynamicsData, Integrator, aba, aba_derivatives, center_of_mass, center_of_mass_jacobian,
+    centroidal_momentum, crba, generalized_gravity, generalized_gravity_derivatives,
+    kinetic_energy, mass_matrix_inverse, nonlinear_effects, potential_energy, rnea,
+    rnea_derivatives, step,
 };
 use pyo3::prelude::*;
 
@@ -26,21 +27,42 @@ impl PyModel {
     /// Inverse dynamics (RNEA): the joint torques ``tau`` that give acceleration ``a`` at
     /// ``(q, v)`` under gravity. Shape ``(nv,)``, or ``(N, nv)`` for stacked inputs.
     ///
+    /// ``out``, when given, is a C-contiguous, writeable float64 array of the result's shape: the
+    /// torques are written into it and it is returned (as for every call with ``out``).
+    ///
     /// >>> tau = panda.rnea(panda.neutral(), [0.0] * 9, [0.0] * 9)
     /// >>> bool(np.allclose(tau, panda.gravity(panda.neutral())))
     /// True
+    /// >>> buffer = np.empty(9)
+    /// >>> panda.rnea(panda.neutral(), [0.0] * 9, [0.0] * 9, out=buffer) is buffer
+    /// True
+    #[pyo3(signature = (q, v, a, out = None))]
     fn rnea<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         a: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let (q, v, a) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(a, "a", F)?);
         let nv = self.model.nv();
-        run_blocks(py, self, &[&q, &v, &a], &[nv], F, |b, _, x, out| {
-            rnea_batch(&self.model, b, x[0], x[1], x[2], out).map_err(|e| in_block(e.into()))
-        })
+        let one = |d: &mut DynamicsData, x: &[&[f64]], out: &mut [f64]| {
+            out.copy_from_slice(rnea(&self.model, d, x[0], x[1], x[2])?);
+            Ok(())
+        };
+        run_blocks(
+            py,
+            self,
+            &[&q, &v, &a],
+            &[nv],
+            out,
+            F,
+            one,
+            |b, _, x, out| {
+                rnea_batch(&self.model, b, x[0], x[1], x[2], out).map_err(|e| in_block(e.into()))
+            },
+        )
     }
 
     /// Nonlinear effects ``C(q, v) v + g(q)`` (RNEA with zero acceleration): shape ``(nv,)``.
@@ -77,35 +99,69 @@ impl PyModel {
     /// The joint-space mass matrix ``M(q)`` (CRBA), full and symmetric: shape ``(nv, nv)``, or
     /// ``(N, nv, nv)``.
     ///
+    /// ``out``: a float64 array of that shape to write ``M`` into, as for ``rnea``.
+    ///
     /// >>> M = panda.crba(panda.neutral())
     /// >>> M.shape, bool((M == M.T).all())
     /// ((9, 9), True)
-    fn crba<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    /// >>> Ms = np.empty((4, 9, 9))
+    /// >>> bool((panda.crba(panda.random_configuration(4, seed=1), out=Ms) == Ms).all())
+    /// True
+    #[pyo3(signature = (q, out = None))]
+    fn crba<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let q = self.q(q, F)?;
         let nv = self.model.nv();
-        run_blocks(py, self, &[&q], &[nv, nv], F, |b, _, x, out| {
+        let one = |d: &mut DynamicsData, x: &[&[f64]], out: &mut [f64]| {
+            out.copy_from_slice(crba(&self.model, d, x[0])?);
+            Ok(())
+        };
+        run_blocks(py, self, &[&q], &[nv, nv], out, F, one, |b, _, x, out| {
             crba_batch(&self.model, b, x[0], out).map_err(|e| in_block(e.into()))
         })
     }
 
-    /// Forward dynamics (ABA): the acceleration ``a`` produced by torques ``tau`` at ``(q, v)``.
+    /// Forward dynamics (ABA): the acceleration ``a`` produced by torques ``tau`` at ``(q, v)``:
+    /// shape ``(nv,)`` (or ``(N, nv)``); ``out`` as for ``rnea``.
     ///
     /// >>> q, v = panda.neutral(), np.zeros(9)
     /// >>> a = panda.aba(q, v, panda.gravity(q))  # holding torques: no acceleration
     /// >>> bool(np.allclose(a, 0.0, atol=1e-12))
     /// True
+    /// >>> buffer = np.empty(9)
+    /// >>> panda.aba(q, v, panda.gravity(q), out=buffer) is buffer
+    /// True
+    #[pyo3(signature = (q, v, tau, out = None))]
     fn aba<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let (q, v, t) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(tau, "tau", F)?);
         let nv = self.model.nv();
-        run_blocks(py, self, &[&q, &v, &t], &[nv], F, |b, _, x, out| {
-            aba_batch(&self.model, b, x[0], x[1], x[2], out).map_err(|e| in_block(e.into()))
-        })
+        let one = |d: &mut DynamicsData, x: &[&[f64]], out: &mut [f64]| {
+            out.copy_from_slice(aba(&self.model, d, x[0], x[1], x[2])?);
+            Ok(())
+        };
+        run_blocks(
+            py,
+            self,
+            &[&q, &v, &t],
+            &[nv],
+            out,
+            F,
+            one,
+            |b, _, x, out| {
+                aba_batch(&self.model, b, x[0], x[1], x[2], out).map_err(|e| in_block(e.into()))
+            },
+        )
     }
 
     /// The analytic derivatives of inverse dynamics ``tau = rnea(q, v, a)``: a tuple

@@ -4,15 +4,30 @@
 use crate::arrays::{KinematicsBlock, in_block, run, run_blocks};
 use crate::errors::Family;
 use crate::model::PyModel;
+use kinetree::dynamics::DynamicsData;
 use kinetree::kinematics::batch::{forward_kinematics_batch, frame_jacobian_batch};
 use kinetree::kinematics::spatial::{Motion, Se3};
 use kinetree::kinematics::{
-    FrameId, ReferenceFrame, change_reference, compute_joint_jacobians_time_variation,
-    forward_kinematics, forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
+    FrameId, ReferenceFrame, change_reference, compute_frame_jacobian,
+    compute_joint_jacobians_time_variation, forward_kinematics,
+    forward_kinematics_with_acceleration, forward_kinematics_with_velocity,
     frame_jacobian_time_variation, frame_velocity, relative_transform, update_frame_placements,
 };
 use pyo3::prelude::*;
 use std::cell::RefCell;
+
+/// States per call of the batched FK in a block: its placements stay in cache until they are
+/// written out as 4 x 4 rows.
+const CHUNK: usize = 64;
+
+/// A block error of states `first..` of a block, renumbered within the block.
+fn shifted(
+    mut failed: Box<(usize, kinetree::Error)>,
+    first: usize,
+) -> Box<(usize, kinetree::Error)> {
+    failed.0 += first;
+    failed
+}
 
 thread_local! {
     /// Jacobian columns of the calls on this thread (grown to the largest `nv` seen).
@@ -83,29 +98,60 @@ impl PyModel {
     /// World pose of every link as 4 x 4 homogeneous matrices, in ``link_names`` order:
     /// shape ``(nlinks, 4, 4)``, or ``(N, nlinks, 4, 4)`` for ``q`` of shape ``(N, nq)``.
     ///
+    /// ``out``, when given, is a C-contiguous, writeable float64 array of that shape: the poses
+    /// are written into it and it is returned (no new array is made).
+    ///
     /// >>> poses = panda.link_placements(panda.neutral())
     /// >>> poses.shape, poses[1, :3, 3]
     /// ((13, 4, 4), array([0.   , 0.   , 0.333]))
+    /// >>> buffer = np.empty((13, 4, 4))
+    /// >>> panda.link_placements(panda.neutral(), out=buffer) is buffer
+    /// True
+    #[pyo3(signature = (q, out = None))]
     fn link_placements<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
         let q = self.q(q, f)?;
         let nl = self.model.links().len();
+        let one = |d: &mut DynamicsData, x: &[&[f64]], out: &mut [f64]| {
+            let k = d.kinematics_mut();
+            forward_kinematics(&self.model, k, x[0])?;
+            for (x, o) in k.world_from_link().iter().zip(out.chunks_exact_mut(16)) {
+                write_se3(x, o);
+            }
+            Ok(())
+        };
+        let nq = self.model.nq();
         run_blocks(
             py,
             self,
             &[&q],
             &[nl, 4, 4],
+            out,
             f,
+            one,
             |b: &mut KinematicsBlock, n, x, out| {
-                let (batch, poses) = b.poses(n * nl);
-                forward_kinematics_batch(&self.model, batch, x[0], poses, None)
-                    .map_err(|e| in_block(e.into()))?;
-                for (x, o) in poses.iter().zip(out.chunks_exact_mut(16)) {
-                    write_se3(x, o);
+                // A few SIMD blocks at a time, so that the placements are still in cache when
+                // they are written out.
+                for first in (0..n).step_by(CHUNK) {
+                    let last = (first + CHUNK).min(n);
+                    let (batch, poses) = b.poses((last - first) * nl);
+                    forward_kinematics_batch(
+                        &self.model,
+                        batch,
+                        &x[0][first * nq..last * nq],
+                        poses,
+                        None,
+                    )
+                    .map_err(|e| shifted(in_block(e.into()), first))?;
+                    let rows = &mut out[first * nl * 16..last * nl * 16];
+                    for (x, o) in poses.iter().zip(rows.chunks_exact_mut(16)) {
+                        write_se3(x, o);
+                    }
                 }
                 Ok(())
             },
@@ -185,28 +231,45 @@ impl PyModel {
     /// angular, so that ``J @ v`` is the frame's twist in ``reference``
     /// (``"local_world_aligned"``, ``"local"`` or ``"world"``).
     ///
+    /// ``out``, when given, is a C-contiguous, writeable float64 array of that shape: the
+    /// Jacobian is written into it and it is returned.
+    ///
     /// >>> J = panda.frame_jacobian(panda.neutral(), "panda_hand_tcp")
     /// >>> J.shape, float(J[5, 0])
     /// ((6, 9), 1.0)
-    #[pyo3(signature = (q, name, reference = "local_world_aligned"))]
+    /// >>> buffer = np.empty((6, 9))
+    /// >>> panda.frame_jacobian(panda.neutral(), "panda_hand_tcp", out=buffer) is buffer
+    /// True
+    #[pyo3(signature = (q, name, reference = "local_world_aligned", out = None))]
     fn frame_jacobian<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         name: &str,
         reference: &str,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
         let frame = self.frame(name, f)?;
         let reference = reference_frame(reference, f)?;
         let q = self.q(q, f)?;
         let nv = self.model.nv();
+        let one = |d: &mut DynamicsData, x: &[&[f64]], out: &mut [f64]| {
+            with_columns(nv, |cols| {
+                let k = d.kinematics_mut();
+                compute_frame_jacobian(&self.model, k, x[0], frame, reference, cols)?;
+                write_columns(cols, out);
+                Ok(())
+            })
+        };
         run_blocks(
             py,
             self,
             &[&q],
             &[6, nv],
+            out,
             f,
+            one,
             |b: &mut KinematicsBlock, n, x, out| {
                 let (batch, cols) = b.columns(n * nv);
                 frame_jacobian_batch(&self.model, batch, x[0], frame, reference, cols)
