@@ -9,7 +9,7 @@ use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
 use kinetree_kinematics::spatial::{Force, Inertia, Motion, Symmetric3};
 
 /// Relative size of an articulated pivot below which the joint counts as moving no mass.
-const PIVOT_TOLERANCE: f64 = 1e-13;
+pub(crate) const PIVOT_TOLERANCE: f64 = 1e-13;
 
 /// Forward dynamics: the joint accelerations `q̈ = M(q)⁻¹·(τ - C(q, q̇)·q̇ - g(q))` produced by
 /// joint torques `tau` at configuration `q` and velocity `v`, under gravity.

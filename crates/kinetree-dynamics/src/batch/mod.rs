@@ -9,7 +9,7 @@
 //! robot).
 //!
 //! RNEA runs on blocks of states in SIMD lanes (see
-//! [`kinetree_kinematics::batch::Simd`]); ABA and CRBA loop over the one-state functions for
+//! [`kinetree_kinematics::batch::Simd`]); ABA too, and CRBA loops over the one-state function for
 //! now. For all cores, `kinetree::parallel` splits a batch over a rayon pool with the same
 //! signatures.
 //!
@@ -32,14 +32,33 @@
 //! # }
 //! ```
 
+mod aba;
+mod articulated;
 mod rnea;
 
 use crate::data::{DynamicsData, JointTerms};
-use crate::error::DynamicsError;
+use crate::error::{DynamicsError, check_vector};
 use crate::rnea::check_inputs;
+use aba::AbaLanes;
 use kinetree_kinematics::batch::{Simd, batch_size};
 use kinetree_kinematics::model::Model;
 use rnea::RneaLanes;
+
+/// The lane buffers of every batched algorithm for one lane width.
+#[derive(Clone, Debug, Default)]
+struct BatchLanes<const L: usize> {
+    rnea: RneaLanes<L>,
+    aba: AbaLanes<L>,
+}
+
+impl<const L: usize> BatchLanes<L> {
+    fn new(model: &Model, data: &DynamicsData) -> Self {
+        Self {
+            rnea: RneaLanes::new(model),
+            aba: AbaLanes::new(model, data),
+        }
+    }
+}
 
 /// The buffers of the batched dynamics for one [`Model`] (see the [module](self) docs).
 ///
@@ -50,8 +69,8 @@ pub struct DynamicsBatch {
     /// One-state data: the joint models and terms, the model check, and the error of a bad
     /// state.
     data: DynamicsData,
-    rnea4: RneaLanes<4>,
-    rnea8: RneaLanes<8>,
+    lanes4: BatchLanes<4>,
+    lanes8: BatchLanes<8>,
 }
 
 impl DynamicsBatch {
@@ -75,20 +94,17 @@ impl DynamicsBatch {
     #[must_use]
     pub fn with_options(model: &Model, joint_terms: JointTerms, simd: Simd) -> Self {
         let simd = simd.or_available();
-        let wide = simd.lanes() == 8;
+        let data = DynamicsData::with_joint_terms(model, joint_terms);
+        let (lanes4, lanes8) = if simd.lanes() == 8 {
+            (BatchLanes::default(), BatchLanes::new(model, &data))
+        } else {
+            (BatchLanes::new(model, &data), BatchLanes::default())
+        };
         Self {
             simd,
-            data: DynamicsData::with_joint_terms(model, joint_terms),
-            rnea4: if wide {
-                RneaLanes::default()
-            } else {
-                RneaLanes::new(model)
-            },
-            rnea8: if wide {
-                RneaLanes::new(model)
-            } else {
-                RneaLanes::default()
-            },
+            data,
+            lanes4,
+            lanes8,
         }
     }
 
@@ -177,7 +193,7 @@ pub fn rnea_batch(
     }
     let data = &batch.data;
     kinetree_kinematics::simd_dispatch!(
-        batch.simd, RneaLanes, &mut batch.rnea4, &mut batch.rnea8, rnea_kernel,
+        batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, rnea_kernel,
         (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, v: &[f64] = v,
          a: &[f64] = a, n: usize = n, tau: &mut [f64] = tau) -> ()
     );
@@ -202,7 +218,7 @@ pub fn rnea_batch(
     reason = "the kernel's inputs, passed through"
 )]
 fn rnea_kernel<const L: usize>(
-    bufs: &mut RneaLanes<L>,
+    bufs: &mut BatchLanes<L>,
     model: &Model,
     data: &DynamicsData,
     q: &[f64],
@@ -211,7 +227,7 @@ fn rnea_kernel<const L: usize>(
     n: usize,
     tau: &mut [f64],
 ) {
-    rnea::rnea(bufs, model, data, q, v, a, n, tau);
+    rnea::rnea(&mut bufs.rnea, model, data, q, v, a, n, tau);
 }
 
 /// Forward dynamics of `N` states: `ddq` (`N · nv`) receives the accelerations
@@ -235,17 +251,59 @@ pub fn aba_batch(
     check_buffer("tau", tau.len(), n, nv)?;
     check_buffer("ddq", ddq.len(), n, nv)?;
     for k in 0..n {
+        let r = k * nv..(k + 1) * nv;
+        check_inputs(
+            model,
+            &batch.data,
+            &q[k * nq..(k + 1) * nq],
+            Some(&v[r.clone()]),
+            None,
+        )
+        .and_then(|()| check_vector("tau", &tau[r], nv))
+        .map_err(in_state(k))?;
+    }
+    let data = &batch.data;
+    kinetree_kinematics::simd_dispatch!(
+        batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, aba_kernel,
+        (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, v: &[f64] = v,
+         tau: &[f64] = tau, n: usize = n, ddq: &mut [f64] = ddq) -> ()
+    );
+    // A vanished pivot or an overflow leaves a state's accelerations NaN: the one-state
+    // function names the joints.
+    let mut from = 0;
+    while let Some(i) = ddq[from..].iter().position(|x| !x.is_finite()) {
+        let k = (from + i) / nv;
+        let r = k * nv..(k + 1) * nv;
         let out = crate::aba(
             model,
             &mut batch.data,
             &q[k * nq..(k + 1) * nq],
-            &v[k * nv..(k + 1) * nv],
-            &tau[k * nv..(k + 1) * nv],
+            &v[r.clone()],
+            &tau[r.clone()],
         )
         .map_err(in_state(k))?;
-        ddq[k * nv..(k + 1) * nv].copy_from_slice(out);
+        ddq[r.clone()].copy_from_slice(out);
+        from = r.end;
     }
     Ok(())
+}
+
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the kernel's inputs, passed through"
+)]
+fn aba_kernel<const L: usize>(
+    bufs: &mut BatchLanes<L>,
+    model: &Model,
+    data: &DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    n: usize,
+    ddq: &mut [f64],
+) {
+    aba::aba(&mut bufs.aba, model, data, q, v, tau, n, ddq);
 }
 
 /// The joint-space mass matrices of `N` states: `mass_matrix` (`N · nv · nv`) receives, for

@@ -11,8 +11,9 @@ use kinetree_dynamics::kinematics::{
     KinematicsData, KinematicsError, compute_frame_jacobian, forward_kinematics,
     update_frame_placements,
 };
-use kinetree_dynamics::model::Model;
-use kinetree_dynamics::spatial::{Motion, Se3};
+use kinetree_dynamics::model::{JointDynamics, JointKind, JointSpec, Link, Model, ModelBuilder};
+use kinetree_dynamics::spatial::glam::DVec3;
+use kinetree_dynamics::spatial::{Motion, Se3, Symmetric3};
 use kinetree_dynamics::{
     DynamicsData, DynamicsError, FrameId, JointTerms, ReferenceFrame, aba, crba, rnea,
 };
@@ -44,6 +45,16 @@ fn assert_rel(got: &[f64], want: &[f64], what: &str) {
             (g - w).abs() <= TOL * scale,
             "{what}[{i}]: batched {g:e}, one-state {w:e} (scale {scale:e})"
         );
+    }
+}
+
+/// Asserts `got` equals `want` exactly (`==`, so a zero's sign may differ): the lane kernels
+/// repeat the one-state arithmetic in the same order, and the Python package promises that a
+/// stacked call equals one-by-one calls bit for bit.
+fn assert_exact(got: &[f64], want: &[f64], what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}");
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        assert!(g == w, "{what}[{i}]: batched {g:e}, one-state {w:e}");
     }
 }
 
@@ -166,8 +177,10 @@ fn batched_dynamics_equals_the_one_state_path() {
                     let what = format!("{name} {simd:?} n={n} state {k}");
                     let t = rnea(&model, &mut data, qk, vk, ak).unwrap().to_vec();
                     assert_rel(&tau[k * nv..(k + 1) * nv], &t, &format!("{what} rnea"));
+                    assert_exact(&tau[k * nv..(k + 1) * nv], &t, &format!("{what} rnea"));
                     let d = aba(&model, &mut data, qk, vk, &t).unwrap();
                     assert_rel(&ddq[k * nv..(k + 1) * nv], d, &format!("{what} aba"));
+                    assert_exact(&ddq[k * nv..(k + 1) * nv], d, &format!("{what} aba"));
                     // And the round trip closes: ABA of RNEA's torques gives back a.
                     for (x, y) in d.iter().zip(ak) {
                         assert!((x - y).abs() < 1e-6 * (1.0 + y.abs()), "{what} aba∘rnea");
@@ -178,25 +191,44 @@ fn batched_dynamics_equals_the_one_state_path() {
                 }
                 // With the joints' armature, damping and friction.
                 rnea_batch(&model, &mut terms, &q, &v, &a, &mut tau).unwrap();
+                aba_batch(&model, &mut terms, &q, &v, &a, &mut ddq).unwrap();
                 for k in 0..n {
                     let r = k * nv..(k + 1) * nv;
-                    let t = rnea(
-                        &model,
-                        &mut data_terms,
-                        &q[k * nq..(k + 1) * nq],
-                        &v[r.clone()],
-                        &a[r.clone()],
-                    )
-                    .unwrap();
-                    assert_rel(
-                        &tau[r],
-                        t,
-                        &format!("{name} {simd:?} n={n} state {k} rnea with joint terms"),
-                    );
+                    let (qk, vk) = (&q[k * nq..(k + 1) * nq], &v[r.clone()]);
+                    let what = format!("{name} {simd:?} n={n} state {k} with joint terms");
+                    let t = rnea(&model, &mut data_terms, qk, vk, &a[r.clone()]).unwrap();
+                    assert_rel(&tau[r.clone()], t, &format!("{what} rnea"));
+                    let d = aba(&model, &mut data_terms, qk, vk, &a[r.clone()]).unwrap();
+                    assert_exact(&ddq[r], d, &format!("{what} aba"));
                 }
             }
         }
     }
+}
+
+/// A hinge carrying a mass, and a massless hinge on it (with armature, which
+/// `JointTerms::FromModel` adds to its pivot).
+fn massless_leaf() -> Model {
+    let mut b = ModelBuilder::new("massless_leaf");
+    b.add_link(Link::new("base"));
+    let inertia = Symmetric3::new(0.01, 0.0, 0.0, 0.02, 0.0, 0.03);
+    b.add_part(
+        Link::new("arm").with_mass(1.5, DVec3::new(0.3, 0.0, 0.0), inertia),
+        JointSpec::new("shoulder", JointKind::Revolute, "base", "arm").with_axis(DVec3::Y),
+    );
+    let dynamics = JointDynamics {
+        damping: 0.1,
+        friction: 0.2,
+        armature: 0.05,
+    };
+    b.add_part(
+        Link::new("tip"),
+        JointSpec::new("finger", JointKind::Revolute, "arm", "tip")
+            .with_axis(DVec3::Z)
+            .with_placement(Se3::from_translation(DVec3::new(0.6, 0.0, 0.0)))
+            .with_dynamics(dynamics),
+    );
+    b.build().unwrap()
 }
 
 #[test]
@@ -248,6 +280,49 @@ fn a_bad_state_is_named_by_its_index_and_bad_lengths_are_errors() {
         matches!(err, DynamicsError::DimensionMismatch { what: "ddq", .. }),
         "{err:?}"
     );
+    // A state whose tau is not finite, and ABA of a model with a massless subtree: the
+    // one-state function's error, for the first such state.
+    let mut bad_tau = a.clone();
+    bad_tau[4 * nv + 1] = f64::INFINITY;
+    let mut ddq = vec![0.0; n * nv];
+    let err = aba_batch(&model, &mut dynamics, &q[..], &v, &bad_tau, &mut ddq).unwrap_err();
+    assert!(
+        matches!(&err, DynamicsError::InBatchState { index: 4, source } if matches!(**source, DynamicsError::NonFinite { what: "tau", index: 1 })),
+        "{err:?}"
+    );
+    let massless = massless_leaf();
+    let mut dynamics = DynamicsBatch::new(&massless);
+    let q = [0.1, 0.2, 0.3, -0.4, 0.5, 0.6, 0.7, 0.8, -0.9, 1.0];
+    let mut ddq = [0.0; 10];
+    for simd in SIMD {
+        let mut wide = DynamicsBatch::with_options(&massless, JointTerms::Ignored, simd);
+        aba_batch(&massless, &mut wide, &q, &q, &q, &mut ddq).unwrap_err();
+    }
+    let err = aba_batch(&massless, &mut dynamics, &q, &q, &q, &mut ddq).unwrap_err();
+    assert!(
+        matches!(&err, DynamicsError::InBatchState { index: 0, source } if matches!(&**source, DynamicsError::SingularMassMatrix { joints } if joints == &["finger"])),
+        "{err:?}"
+    );
+    // With the massless leaf locked by armature, every state is regular.
+    let mut terms = DynamicsBatch::with_joint_terms(&massless, JointTerms::FromModel);
+    aba_batch(&massless, &mut terms, &q, &q, &q, &mut ddq).unwrap();
+    let mut data = DynamicsData::with_joint_terms(&massless, JointTerms::FromModel);
+    for k in 0..5 {
+        let r = 2 * k..2 * k + 2;
+        let d = aba(
+            &massless,
+            &mut data,
+            &q[r.clone()],
+            &q[r.clone()],
+            &q[r.clone()],
+        )
+        .unwrap();
+        assert_exact(
+            &ddq[r],
+            d,
+            &format!("massless leaf with armature, state {k}"),
+        );
+    }
     // A batch built for another model.
     let other = all_models().pop().unwrap().1;
     let mut wrong = DynamicsBatch::new(&other);
