@@ -8,10 +8,9 @@
 //! [`crba`](crate::crba) to rounding (the tests hold them to 1e-14 relative on every reference
 //! robot).
 //!
-//! RNEA runs on blocks of states in SIMD lanes (see
-//! [`kinetree_kinematics::batch::Simd`]); ABA too, and CRBA loops over the one-state function for
-//! now. For all cores, `kinetree::parallel` splits a batch over a rayon pool with the same
-//! signatures.
+//! The algorithms run on blocks of states in SIMD lanes (see
+//! [`kinetree_kinematics::batch::Simd`]) that repeat the one-state arithmetic in the same order.
+//! For all cores, `kinetree::parallel` splits a batch over a rayon pool with the same signatures.
 //!
 //! # Examples
 //! ```
@@ -34,12 +33,15 @@
 
 mod aba;
 mod articulated;
+mod composite;
+mod crba;
 mod rnea;
 
 use crate::data::{DynamicsData, JointTerms};
 use crate::error::{DynamicsError, check_vector};
 use crate::rnea::check_inputs;
 use aba::AbaLanes;
+use crba::CrbaLanes;
 use kinetree_kinematics::batch::{Simd, batch_size};
 use kinetree_kinematics::model::Model;
 use rnea::RneaLanes;
@@ -49,6 +51,7 @@ use rnea::RneaLanes;
 struct BatchLanes<const L: usize> {
     rnea: RneaLanes<L>,
     aba: AbaLanes<L>,
+    crba: CrbaLanes<L>,
 }
 
 impl<const L: usize> BatchLanes<L> {
@@ -56,6 +59,7 @@ impl<const L: usize> BatchLanes<L> {
         Self {
             rnea: RneaLanes::new(model),
             aba: AbaLanes::new(model, data),
+            crba: CrbaLanes::new(model),
         }
     }
 }
@@ -324,9 +328,31 @@ pub fn crba_batch(
     let n = states(model, q.len(), "mass matrix", mass_matrix.len(), nn)?;
     check_buffer("mass matrix", mass_matrix.len(), n, nn)?;
     for k in 0..n {
-        let out =
-            crate::crba(model, &mut batch.data, &q[k * nq..(k + 1) * nq]).map_err(in_state(k))?;
-        mass_matrix[k * nn..(k + 1) * nn].copy_from_slice(out);
+        check_inputs(model, &batch.data, &q[k * nq..(k + 1) * nq], None, None)
+            .map_err(in_state(k))?;
+    }
+    let data = &batch.data;
+    kinetree_kinematics::simd_dispatch!(
+        batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, crba_kernel,
+        (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, n: usize = n,
+         mass_matrix: &mut [f64] = mass_matrix) -> ()
+    );
+    if let Some(i) = mass_matrix.iter().position(|x| !x.is_finite()) {
+        // The one-state function names the joint that overflowed.
+        let k = i / nn;
+        crate::crba(model, &mut batch.data, &q[k * nq..(k + 1) * nq]).map_err(in_state(k))?;
     }
     Ok(())
+}
+
+#[inline(always)]
+fn crba_kernel<const L: usize>(
+    bufs: &mut BatchLanes<L>,
+    model: &Model,
+    data: &DynamicsData,
+    q: &[f64],
+    n: usize,
+    mass_matrix: &mut [f64],
+) {
+    crba::crba(&mut bufs.crba, model, data, q, n, mass_matrix);
 }

@@ -188,10 +188,12 @@ fn batched_dynamics_equals_the_one_state_path() {
                     let m = crba(&model, &mut data, qk).unwrap();
                     let nn = nv * nv;
                     assert_rel(&mass[k * nn..(k + 1) * nn], m, &format!("{what} crba"));
+                    assert_exact(&mass[k * nn..(k + 1) * nn], m, &format!("{what} crba"));
                 }
                 // With the joints' armature, damping and friction.
                 rnea_batch(&model, &mut terms, &q, &v, &a, &mut tau).unwrap();
                 aba_batch(&model, &mut terms, &q, &v, &a, &mut ddq).unwrap();
+                crba_batch(&model, &mut terms, &q, &mut mass).unwrap();
                 for k in 0..n {
                     let r = k * nv..(k + 1) * nv;
                     let (qk, vk) = (&q[k * nq..(k + 1) * nq], &v[r.clone()]);
@@ -200,6 +202,9 @@ fn batched_dynamics_equals_the_one_state_path() {
                     assert_rel(&tau[r.clone()], t, &format!("{what} rnea"));
                     let d = aba(&model, &mut data_terms, qk, vk, &a[r.clone()]).unwrap();
                     assert_exact(&ddq[r], d, &format!("{what} aba"));
+                    let nn = nv * nv;
+                    let m = crba(&model, &mut data_terms, qk).unwrap();
+                    assert_exact(&mass[k * nn..(k + 1) * nn], m, &format!("{what} crba"));
                 }
             }
         }

@@ -37,7 +37,7 @@ mod sweep;
 
 pub use simd::Simd;
 #[doc(hidden)]
-pub use simd::{block_states, body_transform, gather};
+pub use simd::{block_states, body_transform, gather, revolute_axis_transform};
 
 use crate::data::{FrameId, KinematicsData};
 use crate::error::{KinematicsError, check_q};

@@ -151,35 +151,7 @@ pub fn body_transform<const L: usize>(
     let p = &b.placement;
     let r = &p.rotation;
     let t = LVec3::splat(p.translation);
-    let rotate = |k: usize| {
-        let (s, c) = sin_cos_lanes(joint_value(b, q, nq, idx));
-        let (x, y, z) = (
-            LVec3::splat(r.x_axis),
-            LVec3::splat(r.y_axis),
-            LVec3::splat(r.z_axis),
-        );
-        let rotation = match k {
-            0 => LMat3 {
-                x_axis: x,
-                y_axis: y.scale(c) + z.scale(s),
-                z_axis: z.scale(c) - y.scale(s),
-            },
-            1 => LMat3 {
-                x_axis: x.scale(c) - z.scale(s),
-                y_axis: y,
-                z_axis: x.scale(s) + z.scale(c),
-            },
-            _ => LMat3 {
-                x_axis: x.scale(c) + y.scale(s),
-                y_axis: y.scale(c) - x.scale(s),
-                z_axis: z,
-            },
-        };
-        LSe3 {
-            rotation,
-            translation: t,
-        }
-    };
+    let rotate = |k: usize| revolute_axis_transform(k, b, q, nq, idx).0;
     let slide = |axis: LVec3<L>| LSe3 {
         rotation: LMat3::splat(r),
         translation: t + axis,
@@ -210,6 +182,49 @@ pub fn body_transform<const L: usize>(
             x
         }
     }
+}
+
+/// `parent_from_body` of `b`, whose joint turns about coordinate axis `k` (0, 1, 2 for x, y,
+/// z), in each lane, with the sine and cosine of each lane's angle: as
+/// [`JointModel::placed_transform_factored`] computes them.
+#[inline(always)]
+pub fn revolute_axis_transform<const L: usize>(
+    k: usize,
+    b: &Body,
+    q: &[f64],
+    nq: usize,
+    idx: &[usize; L],
+) -> (LSe3<L>, Lanes<L>, Lanes<L>) {
+    let p = &b.placement;
+    let r = &p.rotation;
+    let (s, c) = sin_cos_lanes(joint_value(b, q, nq, idx));
+    let (x, y, z) = (
+        LVec3::splat(r.x_axis),
+        LVec3::splat(r.y_axis),
+        LVec3::splat(r.z_axis),
+    );
+    let rotation = match k {
+        0 => LMat3 {
+            x_axis: x,
+            y_axis: y.scale(c) + z.scale(s),
+            z_axis: z.scale(c) - y.scale(s),
+        },
+        1 => LMat3 {
+            x_axis: x.scale(c) - z.scale(s),
+            y_axis: y,
+            z_axis: x.scale(s) + z.scale(c),
+        },
+        _ => LMat3 {
+            x_axis: x.scale(c) + y.scale(s),
+            y_axis: y.scale(c) - x.scale(s),
+            z_axis: z,
+        },
+    };
+    let x = LSe3 {
+        rotation,
+        translation: LVec3::splat(p.translation),
+    };
+    (x, s, c)
 }
 
 /// [`sin_cos`] of every lane, bit for bit, in SIMD: the same reduction and kernels written

@@ -1,0 +1,254 @@
+//! The lane kernel of batched CRBA: the composite-inertia sweep of `crba.rs` over a block of `L`
+//! states at a time, with the one-state arithmetic in the same order, so every lane is the
+//! one-state result bit for bit.
+
+use super::composite::{LOrigin, LRotation};
+use crate::data::DynamicsData;
+use kinetree_kinematics::JointModel;
+use kinetree_kinematics::batch::{block_states, body_transform, revolute_axis_transform};
+use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes};
+
+/// The per-body lane buffers of CRBA for one lane width, and the block's mass matrices.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct CrbaLanes<const L: usize> {
+    parent_from_body: Vec<LSe3<L>>,
+    /// The joint's rotation about its coordinate axis (revolute joints about x, y or z).
+    joint_rot: Vec<LRotation<L>>,
+    composite: Vec<LOrigin<L>>,
+    /// The `nv x nv` mass matrices (row-major); entries of no ancestor pair stay zero.
+    mass: Vec<Lanes<L>>,
+}
+
+impl<const L: usize> CrbaLanes<L> {
+    pub(crate) fn new(model: &Model) -> Self {
+        let (nb, nv) = (model.nbodies(), model.nv());
+        Self {
+            parent_from_body: vec![LSe3::default(); nb],
+            joint_rot: vec![LRotation::Identity; nb],
+            composite: vec![LOrigin::default(); nb],
+            mass: vec![Lanes::ZERO; nv * nv],
+        }
+    }
+}
+
+/// `Sᵀ·f` of an axis-aligned joint (as [`JointModel::project_axis`]).
+#[inline(always)]
+fn project_axis<const L: usize>(axis: (usize, bool), f: &LForce<L>) -> Lanes<L> {
+    match axis {
+        (k, true) => f.angular.get(k),
+        (k, false) => f.linear.get(k),
+    }
+}
+
+/// `Sᵀ·f` of any joint into `out[..nv]` (as [`JointModel::project_force`]): a floating joint's
+/// rows are the wrench itself, other kinds go lane by lane through the one-state kernel.
+#[inline(always)]
+fn project_force<const L: usize>(jm: &JointModel, f: &LForce<L>, out: &mut [Lanes<L>; 6]) {
+    if let Some(axis) = jm.axis_index() {
+        out[0] = project_axis(axis, f);
+    } else if *jm == JointModel::Floating {
+        *out = [
+            f.linear.x,
+            f.linear.y,
+            f.linear.z,
+            f.angular.x,
+            f.angular.y,
+            f.angular.z,
+        ];
+    } else {
+        let mut col = [0.0; 6];
+        for l in 0..L {
+            jm.project_force(&f.lane(l), &mut col[..jm.nv()]);
+            for (o, c) in out.iter_mut().zip(&col) {
+                o.0[l] = *c;
+            }
+        }
+    }
+}
+
+/// `I·S` of an axis-aligned joint's subspace `e_k` (as `JointModel::axis_momentum`).
+#[inline(always)]
+fn axis_momentum<const L: usize>(axis: (usize, bool), y: &LOrigin<L>) -> LForce<L> {
+    // unit_cross::<K>(h): e_K-free cross product of h with the unit vector e_K, as
+    // `kinetree_spatial::axis::unit_cross`.
+    let h = &y.h;
+    let z = Lanes::ZERO;
+    let cross = match axis.0 {
+        0 => LVec3 {
+            x: z,
+            y: -h.z,
+            z: h.y,
+        },
+        1 => LVec3 {
+            x: h.z,
+            y: z,
+            z: -h.x,
+        },
+        _ => LVec3 { x: -h.y, y: h.x, z },
+    };
+    if axis.1 {
+        let i = &y.i;
+        let angular = match axis.0 {
+            0 => LVec3 {
+                x: i.xx,
+                y: i.xy,
+                z: i.xz,
+            },
+            1 => LVec3 {
+                x: i.xy,
+                y: i.yy,
+                z: i.yz,
+            },
+            _ => LVec3 {
+                x: i.xz,
+                y: i.yz,
+                z: i.zz,
+            },
+        };
+        LForce {
+            linear: cross,
+            angular,
+        }
+    } else {
+        let mut linear = LVec3::ZERO;
+        *linear.get_mut(axis.0) = y.m;
+        LForce {
+            linear,
+            angular: -cross,
+        }
+    }
+}
+
+/// CRBA of the `n` configurations of `q` into `mass_matrix` (`n · nv²`; inputs checked by the
+/// caller), as `crba::compute`.
+#[inline(always)]
+pub(crate) fn crba<const L: usize>(
+    bufs: &mut CrbaLanes<L>,
+    model: &Model,
+    data: &DynamicsData,
+    q: &[f64],
+    n: usize,
+    mass_matrix: &mut [f64],
+) {
+    let (nq, nv) = (model.nq(), model.nv());
+    let nn = nv * nv;
+    let bodies = model.bodies();
+    let joint_models = data.kinematics.joint_models();
+    for start in (0..n).step_by(L) {
+        let idx = block_states::<L>(start, n);
+        let count = L.min(n - start);
+        for i in 1..bodies.len() {
+            let b = &bodies[i];
+            let jm = &joint_models[i];
+            (bufs.parent_from_body[i], bufs.joint_rot[i]) = match jm.axis_index() {
+                Some((k, true)) => {
+                    let (x, s, c) = revolute_axis_transform(k, b, q, nq, &idx);
+                    (x, LRotation::Axis { k, s, c })
+                }
+                _ => (body_transform(jm, b, q, nq, &idx), LRotation::Identity),
+            };
+            bufs.composite[i] = LOrigin::splat(&data.body_inertia[i]);
+        }
+        let m = &mut bufs.mass;
+        let mut f = [LForce::ZERO; 6];
+        let mut col = [Lanes::ZERO; 6];
+        for i in (1..bodies.len()).rev() {
+            let b = &bodies[i];
+            let (iv, ni) = (b.idx_v, b.nv);
+            let ic = bufs.composite[i];
+            let jm = &joint_models[i];
+            let axis = jm.axis_index();
+            let f0 = match axis {
+                Some(axis) => axis_momentum(axis, &ic),
+                None => {
+                    for k in 0..ni {
+                        f[k] = ic.mul_motion(&LMotion::splat(&jm.subspace_column(k)));
+                    }
+                    for k in 0..ni {
+                        project_force(jm, &f[k], &mut col);
+                        for l in k..ni {
+                            m[(iv + l) * nv + iv + k] = col[l];
+                            m[(iv + k) * nv + iv + l] = col[l];
+                        }
+                    }
+                    f[0]
+                }
+            };
+            if ni == 1 {
+                let mut fk = f0;
+                if let Some(axis) = axis {
+                    m[iv * nv + iv] = project_axis(axis, &fk);
+                }
+                let mut j = i;
+                loop {
+                    let p = bodies[j].parent;
+                    if p == 0 {
+                        break;
+                    }
+                    fk = bufs.parent_from_body[j].act_force(&fk);
+                    j = p;
+                    let jv = bodies[j].idx_v;
+                    match joint_models[j].axis_index() {
+                        Some(axis) => {
+                            let x = project_axis(axis, &fk);
+                            m[jv * nv + iv] = x;
+                            m[iv * nv + jv] = x;
+                        }
+                        None => {
+                            let nj = bodies[j].nv;
+                            project_force(&joint_models[j], &fk, &mut col);
+                            for l in 0..nj {
+                                m[(jv + l) * nv + iv] = col[l];
+                                m[iv * nv + jv + l] = col[l];
+                            }
+                        }
+                    }
+                }
+            } else {
+                let mut j = i;
+                loop {
+                    let p = bodies[j].parent;
+                    if p == 0 {
+                        break;
+                    }
+                    for fk in f[..ni].iter_mut() {
+                        *fk = bufs.parent_from_body[j].act_force(fk);
+                    }
+                    j = p;
+                    let (jv, nj) = (bodies[j].idx_v, bodies[j].nv);
+                    for k in 0..ni {
+                        project_force(&joint_models[j], &f[k], &mut col);
+                        for l in 0..nj {
+                            m[(jv + l) * nv + iv + k] = col[l];
+                            m[(iv + k) * nv + jv + l] = col[l];
+                        }
+                    }
+                }
+            }
+            if b.parent != 0 {
+                // As `JointModel::inertia_to_parent`.
+                let x = &bufs.parent_from_body[i];
+                let rotated = if axis.is_some() {
+                    ic.rotated(&bufs.joint_rot[i])
+                        .rotated(&LRotation::splat(&data.placement_rot[i]))
+                } else {
+                    ic.rotated(&LRotation::General(x.rotation))
+                };
+                let moved = rotated.translated(&x.translation);
+                bufs.composite[b.parent].add_assign(&moved);
+            }
+        }
+        if data.has_joint_terms {
+            for k in 0..nv {
+                m[k * nv + k] += Lanes::splat(data.armature[k]);
+            }
+        }
+        for l in 0..count {
+            let out = &mut mass_matrix[(start + l) * nn..(start + l + 1) * nn];
+            for (o, x) in out.iter_mut().zip(m.iter()) {
+                *o = x.0[l];
+            }
+        }
+    }
+}
