@@ -81,8 +81,16 @@ impl Workspace {
                     let lin = t.rot_t * v;
                     let ang = t.ang_map * col.angular;
                     let comp = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
-                    for (k, &a) in rows.zip(&t.rows[..t.nrows]) {
-                        self.jac[k * n + c] = t.weights[a] * comp[a];
+                    if t.nrows == 6 {
+                        // Every component weighted (the usual full-pose target): rows in order.
+                        let col = &mut self.jac[t.offset * n + c..];
+                        for (a, (&w, &x)) in t.weights.iter().zip(&comp).enumerate() {
+                            col[a * n] = w * x;
+                        }
+                    } else {
+                        for (k, &a) in rows.zip(&t.rows[..t.nrows]) {
+                            self.jac[k * n + c] = t.weights[a] * comp[a];
+                        }
                     }
                 } else {
                     for k in rows {
@@ -182,7 +190,7 @@ pub(super) fn step(
             }
         }
         let f = ws.free.len();
-        // w = -r - J z, and J_F: the free columns of J, packed.
+        // w = -r - J z, and J_F: the free columns of J, packed (J itself when all are free).
         for k in 0..m {
             let row = &jac[k * n..(k + 1) * n];
             ws.w[k] = -ws.r[k]
@@ -191,16 +199,14 @@ pub(super) fn step(
                 } else {
                     0.0
                 };
-            let packed = &mut ws.jf[k * f..(k + 1) * f];
-            if f == n {
-                packed.copy_from_slice(row);
-            } else {
+            if f < n {
+                let packed = &mut ws.jf[k * f..(k + 1) * f];
                 for (o, &c) in packed.iter_mut().zip(&ws.free) {
                     *o = row[c];
                 }
             }
         }
-        let jf = &ws.jf[..m * f];
+        let jf = if f == n { jac } else { &ws.jf[..m * f] };
         // δ_F = (J_FᵀJ_F + λI)⁻¹ J_Fᵀ w = J_Fᵀ (J_F J_Fᵀ + λI)⁻¹ w: factor whichever is smaller.
         ws.step[..n].copy_from_slice(&ws.z[..n]);
         if m < f {
