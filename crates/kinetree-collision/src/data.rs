@@ -3,6 +3,7 @@
 
 use crate::build::{CollisionOptions, shape_from_geometry};
 use crate::error::CollisionError;
+use crate::frames::Frame;
 use crate::model::CollisionModel;
 use crate::narrow::{Kind, Posed, Scratch};
 use crate::pose::se3_to_pose;
@@ -109,6 +110,8 @@ pub struct CollisionData {
     pub(crate) npairs: usize,
     pub(crate) body_pose: Vec<Pose>,
     pub(crate) world_from_shape: Vec<Pose>,
+    /// `world_from_shape` in matrix form, for the distance queries.
+    pub(crate) frames: Vec<Frame>,
     pub(crate) aabbs: Vec<Aabb>,
     pub(crate) distances: Vec<Proximity>,
     pub(crate) link_pair_distances: Vec<LinkPairDistance>,
@@ -132,6 +135,7 @@ impl CollisionData {
             npairs,
             body_pose: vec![Pose::IDENTITY; cmodel.nbodies()],
             world_from_shape: vec![Pose::IDENTITY; n],
+            frames: vec![Frame::IDENTITY; n],
             aabbs: cmodel
                 .shapes
                 .iter()
@@ -204,6 +208,7 @@ impl CollisionData {
         for (k, s) in cmodel.shapes.iter().enumerate() {
             let pose = self.body_pose[s.body] * s.body_from_shape;
             self.world_from_shape[k] = pose;
+            self.frames[k] = Frame::of(&pose);
             self.aabbs[k] = s.kind.aabb(&*s.shape, &pose);
         }
         Ok(())

@@ -44,9 +44,32 @@ where
     G1: ?Sized + SupportMap,
     G2: ?Sized + SupportMap,
 {
-    let rot = DMat3::from_quat(pos12.rotation);
+    signed_distance_mat(
+        &DMat3::from_quat(pos12.rotation),
+        pos12.translation,
+        g1,
+        g2,
+        dir,
+        epa,
+    )
+}
+
+/// [`signed_distance`] with shape 2's pose in shape 1's frame given as a rotation matrix `rot`
+/// and a translation `t12`.
+pub(crate) fn signed_distance_mat<G1, G2>(
+    rot: &DMat3,
+    t12: DVec3,
+    g1: &G1,
+    g2: &G2,
+    dir: DVec3,
+    epa: &mut Polytope,
+) -> Option<Local>
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
+    let rot = *rot;
     let rot_t = rot.transpose();
-    let t12 = pos12.translation;
     let support = |d: DVec3| {
         let a = g1.local_support_point(d);
         let b = rot * g2.local_support_point(rot_t * -d) + t12;

@@ -86,6 +86,7 @@
 pub mod build;
 mod data;
 mod error;
+mod frames;
 mod gjk;
 pub mod mesh;
 mod model;

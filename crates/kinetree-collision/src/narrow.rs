@@ -5,6 +5,7 @@
 //! monomorphised over them (inlined support functions); other shapes go through parry's
 //! `dyn Shape` queries.
 
+use crate::frames::{Sides, ball_primitive, cylinder_sides};
 use glam::DVec3;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
@@ -74,7 +75,7 @@ impl Kind {
 pub(crate) struct Scratch {
     epa: EPA,
     simplex: VoronoiSimplex,
-    polytope: crate::gjk::Polytope,
+    pub(crate) polytope: crate::gjk::Polytope,
 }
 
 impl core::fmt::Debug for Scratch {
@@ -137,7 +138,7 @@ pub(crate) fn proximity(
     }
     // A ball against a primitive: exact closed forms in the primitive's frame.
     if let Kind::Ball(ball) = a.kind
-        && let Some(r) = ball_primitive(a.pose.translation, ball.radius, b.kind, b.pose)
+        && let Some(r) = ball_primitive_at(a.pose.translation, ball.radius, b.kind, b.pose)
     {
         return Ok((r.distance <= max_dist).then_some(Witness {
             distance: r.distance,
@@ -147,7 +148,7 @@ pub(crate) fn proximity(
         }));
     }
     if let Kind::Ball(ball) = b.kind
-        && let Some(r) = ball_primitive(b.pose.translation, ball.radius, a.kind, a.pose)
+        && let Some(r) = ball_primitive_at(b.pose.translation, ball.radius, a.kind, a.pose)
     {
         return Ok((r.distance <= max_dist).then_some(r));
     }
@@ -159,10 +160,12 @@ pub(crate) fn proximity(
         (Kind::Cylinder(s), Kind::Ball(ball)) => convex_ball(&pos12, s, ball, max_dist),
         (Kind::Cuboid(s), Kind::Ball(ball)) => convex_ball(&pos12, s, ball, max_dist),
         (Kind::Capsule(s), Kind::Ball(ball)) => convex_ball(&pos12, s, ball, max_dist),
-        (Kind::Cylinder(s1), Kind::Cylinder(s2)) => match cylinder_sides(&pos12, s1, s2) {
-            Sides::Exact(local) => (local.3 <= max_dist).then_some(local),
-            Sides::Fallback(dir) => support_from(&pos12, s1, s2, max_dist, dir, scratch),
-        },
+        (Kind::Cylinder(s1), Kind::Cylinder(s2)) => {
+            match cylinder_sides(pos12.rotation * Vector::Y, pos12.translation, s1, s2) {
+                Sides::Exact(local) => (local.3 <= max_dist).then_some(local),
+                Sides::Fallback(dir) => support_from(&pos12, s1, s2, max_dist, dir, scratch),
+            }
+        }
         (Kind::Cylinder(s1), Kind::Cuboid(s2)) => support(&pos12, s1, s2, max_dist, scratch),
         (Kind::Cylinder(s1), Kind::Capsule(s2)) => support(&pos12, s1, s2, max_dist, scratch),
         (Kind::Cuboid(s1), Kind::Cylinder(s2)) => support(&pos12, s1, s2, max_dist, scratch),
@@ -197,6 +200,20 @@ pub(crate) fn proximity(
     }))
 }
 
+/// [`ball_primitive`] for a primitive at a parry pose.
+fn ball_primitive_at(center: DVec3, radius: f64, kind: &Kind, pose: &Pose) -> Option<Witness> {
+    if matches!(kind, Kind::Ball(_) | Kind::Other) {
+        return None;
+    }
+    ball_primitive(
+        center,
+        radius,
+        kind,
+        &glam::DMat3::from_quat(pose.rotation),
+        pose.translation,
+    )
+}
+
 fn ball_convex<S: Shape + ?Sized>(
     pos12: &Pose,
     ball: &Ball,
@@ -218,7 +235,7 @@ fn convex_ball<S: Shape + ?Sized>(
 }
 
 /// GJK for separated shapes, EPA (with the reused buffers) for penetrating ones.
-fn support<G1, G2>(
+pub(crate) fn support<G1, G2>(
     pos12: &Pose,
     g1: &G1,
     g2: &G2,
@@ -441,202 +458,10 @@ where
     )
 }
 
-/// A ball (world centre `center`, radius `radius`) against a box, cylinder or capsule at
-/// `pose`: `None` when `kind` is none of those, else the signed distance with `point_a` on the
-/// primitive, `point_b` on the ball and the normal pointing from the primitive toward the ball
-///
-/// The closest point of a solid primitive to the centre is exact (clamping); for a centre inside,
-/// the nearest face (or side) gives the penetration depth, as in parry's point projection.
-fn ball_primitive(center: DVec3, radius: f64, kind: &Kind, pose: &Pose) -> Option<Witness> {
-    if matches!(kind, Kind::Ball(_) | Kind::Other) {
-        return None;
-    }
-    // One quaternion-to-matrix conversion, then matrix products (cheaper than three quaternion
-    // rotations).
-    let rot = glam::DMat3::from_quat(pose.rotation);
-    let c = rot.transpose() * (center - pose.translation);
-    // (point on the primitive's surface, outward unit normal there, signed distance centre-surface)
-    let (surface, normal, signed) = match kind {
-        Kind::Cylinder(cyl) => {
-            let (h, r) = (cyl.half_height, cyl.radius);
-            let rho = (c.x * c.x + c.z * c.z).sqrt();
-            let u = if rho > 0.0 {
-                DVec3::new(c.x / rho, 0.0, c.z / rho)
-            } else {
-                DVec3::X
-            };
-            if c.y.abs() <= h && rho <= r {
-                let (to_cap, to_side) = (h - c.y.abs(), r - rho);
-                if to_side < to_cap {
-                    (DVec3::new(u.x * r, c.y, u.z * r), u, -to_side)
-                } else {
-                    let s = if c.y >= 0.0 { 1.0 } else { -1.0 };
-                    (DVec3::new(c.x, s * h, c.z), DVec3::Y * s, -to_cap)
-                }
-            } else {
-                let radial = if rho > r {
-                    u * r
-                } else {
-                    DVec3::new(c.x, 0.0, c.z)
-                };
-                let p = DVec3::new(radial.x, c.y.clamp(-h, h), radial.z);
-                outside(c, p)
-            }
-        }
-        Kind::Cuboid(b) => {
-            let h = b.half_extents;
-            let inside = c.abs().cmple(h).all();
-            if inside {
-                let gap = h - c.abs();
-                let axis = if gap.x <= gap.y && gap.x <= gap.z {
-                    0
-                } else if gap.y <= gap.z {
-                    1
-                } else {
-                    2
-                };
-                let s = if c[axis] >= 0.0 { 1.0 } else { -1.0 };
-                let mut p = c;
-                p[axis] = s * h[axis];
-                let mut n = DVec3::ZERO;
-                n[axis] = s;
-                (p, n, -gap[axis])
-            } else {
-                outside(c, c.clamp(-h, h))
-            }
-        }
-        Kind::Capsule(cap) => {
-            let (s0, s1) = (cap.segment.a, cap.segment.b);
-            let d = s1 - s0;
-            let len2 = d.length_squared();
-            let t = if len2 > 0.0 {
-                ((c - s0).dot(d) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let on_axis = s0 + d * t;
-            let v = c - on_axis;
-            let l = v.length();
-            let n = if l > 0.0 {
-                v / l
-            } else {
-                d.any_orthonormal_vector()
-            };
-            (on_axis + n * cap.radius, n, l - cap.radius)
-        }
-        _ => return None,
-    };
-    let n = rot * normal;
-    Some(Witness {
-        distance: signed - radius,
-        point_a: rot * surface + pose.translation,
-        point_b: center - n * radius,
-        normal: n,
-    })
-}
-
-/// Surface point `p` of a solid primitive closest to an outside point `c`.
-fn outside(c: DVec3, p: DVec3) -> (DVec3, DVec3, f64) {
-    let d = c - p;
-    let l = d.length();
-    (p, if l > 0.0 { d / l } else { DVec3::X }, l)
-}
-
-/// Outcome of [`cylinder_sides`].
-enum Sides {
-    /// The exact result.
-    Exact(Local),
-    /// Not a side-to-side configuration: run GJK from this direction.
-    Fallback(Vector),
-}
-
-/// Two separated cylinders whose closest points lie on both side surfaces, in closed form.
-///
-/// Parry's cylinders lie along their local y axis. Let the axes' common perpendicular meet them
-/// at heights `s` and `t`. When both are strictly within the cylinders' half heights and the
-/// axes are more than `r1 + r2` apart, the points at `r1` and `r2` along the perpendicular are on
-/// the side surfaces and realise the lower bound `|axis distance| - r1 - r2` (every point of a
-/// cylinder is within its radius of its axis), so they are the closest points. Otherwise the
-/// closest points of the clamped axis segments give GJK a good first direction.
-fn cylinder_sides(pos12: &Pose, c1: &Cylinder, c2: &Cylinder) -> Sides {
-    let center2 = pos12.translation;
-    let axis2 = pos12.rotation * Vector::Y;
-    let cos = axis2.y;
-    let denom = 1.0 - cos * cos;
-    // Axis segments P(s) = s·y, s ∈ [-h1, h1], and Q(t) = center2 + t·axis2, t ∈ [-h2, h2].
-    let (d1, d2) = (-center2.y, -axis2.dot(center2));
-    let (h1, h2) = (c1.half_height, c2.half_height);
-    let fallback = |s: f64, t: f64| {
-        let s = s.clamp(-h1, h1);
-        let t = t.clamp(-h2, h2);
-        let d = center2 + axis2 * t - Vector::Y * s;
-        Sides::Fallback(
-            d.try_normalize()
-                .or_else(|| center2.try_normalize())
-                .unwrap_or(Vector::X),
-        )
-    };
-    if denom < 1e-8 {
-        // Near-parallel axes: the perpendicular is not unique.
-        return fallback(0.0, -d2);
-    }
-    let s = (cos * d2 - d1) / denom;
-    let t = (d2 - cos * d1) / denom;
-    if s.abs() >= h1 || t.abs() >= h2 {
-        return fallback(s, t);
-    }
-    let p = Vector::Y * s;
-    let q = center2 + axis2 * t;
-    let d = q - p;
-    let len = d.length();
-    if len <= c1.radius + c2.radius {
-        return fallback(s, t);
-    }
-    let n = d / len;
-    Sides::Exact((
-        p + n * c1.radius,
-        q - n * c2.radius,
-        n,
-        len - c1.radius - c2.radius,
-    ))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use glam::DQuat;
-
-    /// The closed form agrees with GJK wherever it applies, and defers elsewhere.
-    #[test]
-    fn cylinder_sides_match_gjk() {
-        let c1 = Cylinder::new(0.2, 0.05);
-        let c2 = Cylinder::new(0.1, 0.08);
-        let mut scratch = Scratch::default();
-        let mut exact = 0;
-        for k in 0..400 {
-            let f = f64::from(k);
-            let pos12 = Pose::from_parts(
-                Vector::new(
-                    (f * 0.37).sin() * 0.4,
-                    (f * 0.11).cos() * 0.3,
-                    (f * 0.23).sin() * 0.4,
-                ),
-                DQuat::from_euler(glam::EulerRot::XYZ, f * 0.7, f * 1.3, f * 0.3),
-            );
-            let gjk = support(&pos12, &c1, &c2, f64::INFINITY, &mut scratch).unwrap();
-            if let Sides::Exact(local) = cylinder_sides(&pos12, &c1, &c2) {
-                exact += 1;
-                assert!(
-                    (local.3 - gjk.3).abs() < 1e-7,
-                    "{k}: {} vs {}",
-                    local.3,
-                    gjk.3
-                );
-                assert!((local.0 - gjk.0).length() < 1e-3, "{k}");
-            }
-        }
-        assert!(exact > 20, "only {exact} side-to-side cases");
-    }
 
     /// The ball closed forms agree with parry's point projection, inside and outside.
     #[test]
@@ -659,7 +484,7 @@ mod tests {
                     * 0.35
                     + pose.translation;
                 let ball = Ball::new(0.04);
-                let ours = ball_primitive(center, ball.radius, &kind, &pose).unwrap();
+                let ours = ball_primitive_at(center, ball.radius, &kind, &pose).unwrap();
                 let pos12 = pose.inv_mul(&Pose::from_translation(center));
                 let theirs =
                     details::contact_convex_polyhedron_ball(&pos12, &**shape, &ball, f64::MAX)

@@ -211,14 +211,15 @@ pub fn compute_distances<'d>(
     for lp in &mut data.link_pair_distances {
         lp.distance = f64::INFINITY;
     }
-    let world = &data.world_from_shape;
+    let (world, frames) = (&data.world_from_shape, &data.frames);
     for (k, pair) in cmodel.pairs.iter().enumerate() {
         let (a, b) = (pair.shape_a, pair.shape_b);
         let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
-        let w = proximity(
+        let w = crate::frames::distance(
             sa.posed(&world[a]),
+            &frames[a],
             sb.posed(&world[b]),
-            f64::INFINITY,
+            &frames[b],
             &mut data.scratch,
         )
         .map_err(|_| unsupported(sa.name(), sb.name()))?
