@@ -267,22 +267,24 @@ pub(crate) fn sin_cos_lanes<const L: usize>(x: Lanes<L>) -> (Lanes<L>, Lanes<L>)
     let w = Lanes::splat(1.0) - hz;
     let c = w + (((Lanes::splat(1.0) - w) - hz) + p);
     // Quadrant n = k mod 4 from the rounded sum's low bits (the integer k sits in the mantissa
-    // of `t`): (sin, cos) = (s, c), (c, -s), (-s, -c), (-c, s).
+    // of `t`): (sin, cos) = (s, c), (c, -s), (-s, -c), (-c, s). Branch-free integer operations
+    // on whole arrays, so that the compiler keeps every step (and the polynomials above) in
+    // full-width vectors instead of splitting them lane by lane.
     let (mut sin, mut cos) = ([0.0; L], [0.0; L]);
-    let mut large = false;
     for l in 0..L {
         let n = t.0[l].to_bits();
-        let odd = n & 1 == 1;
-        let (sv, cv) = if odd {
-            (c.0[l], s.0[l])
-        } else {
-            (s.0[l], c.0[l])
-        };
-        sin[l] = f64::from_bits(sv.to_bits() ^ ((n & 2) << 62));
-        cos[l] = f64::from_bits(cv.to_bits() ^ ((n.wrapping_add(1) & 2) << 62));
-        large |= x.0[l].abs() >= 1e5;
+        let odd = 0u64.wrapping_sub(n & 1);
+        let (sb, cb) = (s.0[l].to_bits(), c.0[l].to_bits());
+        let sv = (sb & !odd) | (cb & odd);
+        let cv = (cb & !odd) | (sb & odd);
+        sin[l] = f64::from_bits(sv ^ ((n & 2) << 62));
+        cos[l] = f64::from_bits(cv ^ ((n.wrapping_add(1) & 2) << 62));
     }
-    if large {
+    let mut large = 0u64;
+    for l in 0..L {
+        large |= u64::from(x.0[l].abs() >= 1e5);
+    }
+    if large != 0 {
         for l in 0..L {
             if x.0[l].abs() >= 1e5 {
                 (sin[l], cos[l]) = sin_cos(x.0[l]);
