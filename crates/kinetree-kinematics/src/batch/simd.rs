@@ -66,6 +66,39 @@ impl Simd {
     }
 }
 
+/// Calls `$kernel(args…)` (part of a one-state algorithm, `#[inline(always)]`) compiled for AVX2
+/// when the CPU has it, else as built: its long vectorized loops (the rows of the mass matrix's
+/// factorization and inverse) then take 4 numbers per instruction instead of 2. FMA is not
+/// enabled and the compiler never reorders floating-point operations, so the results are the
+/// portable build's bit for bit. The target-feature call is `unsafe` only because the feature
+/// must be present, which the macro checks first.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! with_avx2 {
+    ($kernel:path, ($($a:ident: $t:ty = $v:expr),* $(,)?) -> $r:ty) => {{
+        let out: $r;
+        #[cfg(target_arch = "x86_64")]
+        {
+            #[target_feature(enable = "avx2")]
+            fn avx2($($a: $t),*) -> $r {
+                $kernel($($a),*)
+            }
+            out = if std::arch::is_x86_feature_detected!("avx2") {
+                #[allow(unsafe_code, reason = "the CPU was just checked for AVX2")]
+                // SAFETY: the CPU has AVX2.
+                unsafe { avx2($($v),*) }
+            } else {
+                $kernel($($v),*)
+            };
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            out = $kernel($($v),*);
+        }
+        out
+    }};
+}
+
 /// Runs `$kernel::<L>(bufs, args…)` compiled for the instruction set `$simd`, with `$bufs4`
 /// (a `&mut $buf<4>`) or `$bufs8` (a `&mut $buf<8>`) as the kernel's first argument. The
 /// target-feature calls are the only `unsafe` of the batched sweeps: a workspace picks its
