@@ -126,50 +126,72 @@ pub(crate) fn check_finite<T>(
 ) -> Result<(), KinematicsError> {
     match xs.iter().position(|x| !ok(x)) {
         None => Ok(()),
-        Some(i) => {
-            let body = model
-                .links()
-                .iter()
-                .enumerate()
-                .find(|&(l, _)| model.link_body(l).0 == i)
-                .map_or_else(|| format!("#{i}"), |(_, link)| link.name.clone());
-            Err(KinematicsError::Overflow { what, body })
-        }
+        Some(i) => Err(overflow(model, what, i)),
     }
+}
+
+/// [`KinematicsError::Overflow`] of `what` at body `i`, named by its first link.
+pub(crate) fn overflow(model: &Model, what: &'static str, i: usize) -> KinematicsError {
+    let body = model
+        .links()
+        .iter()
+        .enumerate()
+        .find(|&(l, _)| model.link_body(l).0 == i)
+        .map_or_else(|| format!("#{i}"), |(_, link)| link.name.clone());
+    KinematicsError::Overflow { what, body }
 }
 
 /// The body sweep shared by every variant: `parent_from_body` and `world_from_body`.
 #[inline]
 pub(crate) fn placements(model: &Model, data: &mut KinematicsData, q: &[f64]) {
-    let bodies = model.bodies();
     data.q.copy_from_slice(q);
-    for i in 1..bodies.len() {
-        let b = &bodies[i];
-        let jm = &data.joint_models[i];
-        // A revolute joint about a coordinate axis whose placement does not rotate (most joints
-        // of legged robots and humanoids): the world rotation is the parent's turned about that
-        // axis, two columns of three, instead of a 3x3 product. Same numbers as the product
-        // (it only skips multiplications by 0 and 1).
-        let k = usize::from(data.turn_axis[i]);
-        if k < 3 {
-            let (s, c) = sin_cos(q[b.idx_q]);
-            let t = b.placement.translation;
-            data.parent_from_body[i] = Se3::new(axis_rotation(k, s, c), t);
-            let w = &data.world_from_body[b.parent];
-            data.world_from_body[i] = Se3::new(
-                rotate_about_axis(&w.rotation, k, s, c),
-                w.rotation * t + w.translation,
-            );
-            continue;
-        }
-        let local = jm.body_transform(b, q);
-        data.parent_from_body[i] = local;
-        data.world_from_body[i] = if b.parent == 0 {
-            local
-        } else {
-            data.world_from_body[b.parent] * local
-        };
+    for i in 1..model.bodies().len() {
+        place(model, data, q, i);
     }
+}
+
+/// [`placements`] of body `target` and its ancestors only (the joints that move it); the other
+/// bodies keep their earlier placements. Bodies are stored depth-first, so body `i` supports
+/// `target` exactly when `i <= target < subtree_end(i)`.
+#[inline]
+pub(crate) fn placements_to(model: &Model, data: &mut KinematicsData, q: &[f64], target: usize) {
+    data.q.copy_from_slice(q);
+    let bodies = model.bodies();
+    for i in 1..=target.min(bodies.len() - 1) {
+        if bodies[i].subtree_end > target {
+            place(model, data, q, i);
+        }
+    }
+}
+
+/// `parent_from_body[i]` and `world_from_body[i]` from `q` and the parent's world placement.
+#[inline(always)]
+fn place(model: &Model, data: &mut KinematicsData, q: &[f64], i: usize) {
+    let b = &model.bodies()[i];
+    let jm = &data.joint_models[i];
+    // A revolute joint about a coordinate axis whose placement does not rotate (most joints
+    // of legged robots and humanoids): the world rotation is the parent's turned about that
+    // axis, two columns of three, instead of a 3x3 product. Same numbers as the product
+    // (it only skips multiplications by 0 and 1).
+    let k = usize::from(data.turn_axis[i]);
+    if k < 3 {
+        let (s, c) = sin_cos(q[b.idx_q]);
+        let t = b.placement.translation;
+        data.parent_from_body[i] = Se3::new(axis_rotation(k, s, c), t);
+        let w = &data.world_from_body[b.parent];
+        data.world_from_body[i] = Se3::new(
+            rotate_about_axis(&w.rotation, k, s, c),
+            w.rotation * t + w.translation,
+        );
+        return;
+    }
+    let local = jm.body_transform(b, q);
+    data.parent_from_body[i] = local;
+    data.world_from_body[i] = if b.parent == 0 {
+        local
+    } else {
+        data.world_from_body[b.parent] * local
+    };
 }
 
 #[inline]

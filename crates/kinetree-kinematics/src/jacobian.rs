@@ -6,7 +6,7 @@
 
 use crate::data::{FrameId, KinematicsData};
 use crate::error::{KinematicsError, check_q};
-use crate::forward::{forward_kinematics_with_velocity, placements};
+use crate::forward::{forward_kinematics_with_velocity, placements_to};
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
 
@@ -141,9 +141,10 @@ pub fn frame_jacobian(
     Ok(())
 }
 
-/// Computes forward kinematics for `q` and the Jacobian of one link or frame, touching only the
-/// joints that move it (cheaper than [`compute_joint_jacobians`] + [`frame_jacobian`] for a
-/// single frame). Allocates nothing.
+/// Computes the Jacobian of one link or frame at `q`, touching only the joints that move it
+/// (cheaper than [`compute_joint_jacobians`] + [`frame_jacobian`] for a single frame): the
+/// placements of the frame's body and its ancestors are updated in `data` (and the link's, for a
+/// link), the other bodies' are not. Allocates nothing.
 ///
 /// # Errors
 /// As [`forward_kinematics`](crate::forward_kinematics) and [`frame_jacobian`].
@@ -158,11 +159,20 @@ pub fn compute_frame_jacobian(
     data.check_model(model)?;
     check_q(model, "q", q)?;
     check_out(out, model.nv())?;
-    placements(model, data, q);
-    crate::forward::check_finite(model, "placement", &data.world_from_body, |x| {
-        x.translation.is_finite()
-    })?;
     let (body, body_from_frame) = frame.body(model)?;
+    placements_to(model, data, q, body);
+    // The first body on the path (from the root) whose placement overflowed.
+    let mut bad = None;
+    let mut i = body;
+    while i != 0 {
+        if !data.world_from_body[i].translation.is_finite() {
+            bad = Some(i);
+        }
+        i = model.bodies()[i].parent;
+    }
+    if let Some(i) = bad {
+        return Err(crate::forward::overflow(model, "placement", i));
+    }
     let world_from_frame = data.world_from_body[body] * body_from_frame;
     if let FrameId::Link(l) = frame {
         data.world_from_link[l] = world_from_frame;

@@ -150,3 +150,42 @@ fn an_overflowing_placement_is_an_error_naming_the_body() {
     // Large but representable values are fine.
     forward_kinematics(&model, &mut data, &[1e300, 1e300]).unwrap();
 }
+
+/// `compute_frame_jacobian` places only the frame's body and its ancestors: an overflow on another
+/// branch is not its concern, an overflow on the path is, and neither leaves stale state behind.
+#[test]
+fn frame_jacobian_overflow_only_on_the_frames_path() {
+    use kinetree_kinematics::spatial::Motion;
+    use kinetree_kinematics::{ReferenceFrame, compute_frame_jacobian};
+    // A base with two prismatic branches along x: `a` (s1) and `b` (s2).
+    let model = Model::from_urdf_str(
+        r#"<robot name="r"><link name="base"/><link name="a"/><link name="b"/>
+           <joint name="s1" type="prismatic"><parent link="base"/><child link="a"/>
+             <axis xyz="1 0 0"/><limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
+           <joint name="s2" type="prismatic"><parent link="base"/><child link="b"/>
+             <origin xyz="1e308 0 0"/>
+             <axis xyz="1 0 0"/><limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
+           </robot>"#,
+        RootJoint::Fixed,
+    )
+    .unwrap();
+    let (a, b) = (
+        FrameId::find(&model, "a").unwrap(),
+        FrameId::find(&model, "b").unwrap(),
+    );
+    let mut data = KinematicsData::new(&model);
+    let mut jac = vec![Motion::ZERO; 2];
+    // b at 1e308 + 1e308 overflows; a's Jacobian does not depend on it.
+    let q = [0.5, 1e308];
+    compute_frame_jacobian(&model, &mut data, &q, a, ReferenceFrame::World, &mut jac).unwrap();
+    assert_eq!(jac[0].linear.to_array(), [1.0, 0.0, 0.0]);
+    assert_eq!(jac[1], Motion::ZERO);
+    assert_eq!(data.world_from(a).unwrap().translation.x, 0.5);
+    match compute_frame_jacobian(&model, &mut data, &q, b, ReferenceFrame::World, &mut jac) {
+        Err(e @ KinematicsError::Overflow { .. }) => assert!(e.to_string().contains("'b'"), "{e}"),
+        other => panic!("expected Overflow naming b, got {other:?}"),
+    }
+    // The overflowed placement of b, left in the data, does not fail a later call for a.
+    compute_frame_jacobian(&model, &mut data, &q, a, ReferenceFrame::World, &mut jac).unwrap();
+    assert_eq!(jac[0].linear.to_array(), [1.0, 0.0, 0.0]);
+}
