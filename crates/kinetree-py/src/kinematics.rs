@@ -14,7 +14,9 @@ use kinetree::kinematics::{
     frame_jacobian_time_variation, frame_velocity, relative_transform, update_frame_placements,
 };
 use pyo3::prelude::*;
+use pyo3::types::PyString;
 use std::cell::RefCell;
+use std::sync::{Mutex, PoisonError};
 
 /// States per call of the batched FK in a block: its placements stay in cache until they are
 /// written out as 4 x 4 rows.
@@ -86,10 +88,56 @@ pub(crate) fn reference_frame(name: &str, family: Family) -> PyResult<ReferenceF
     }
 }
 
+/// `reference` given as a Python string, ``"local_world_aligned"`` when left out. The usual
+/// spellings are interned strings, recognised by identity without reading the text.
+fn reference_of(
+    reference: Option<&Bound<'_, PyString>>,
+    family: Family,
+) -> PyResult<ReferenceFrame> {
+    let Some(r) = reference else {
+        return Ok(ReferenceFrame::LocalWorldAligned);
+    };
+    let py = r.py();
+    if r.is(pyo3::intern!(py, "local_world_aligned")) {
+        Ok(ReferenceFrame::LocalWorldAligned)
+    } else if r.is(pyo3::intern!(py, "local")) {
+        Ok(ReferenceFrame::Local)
+    } else if r.is(pyo3::intern!(py, "world")) {
+        Ok(ReferenceFrame::World)
+    } else {
+        reference_frame(&r.to_cow()?, family)
+    }
+}
+
+/// Links and frames found by name, keyed by the Python string object: a script passes the same
+/// string object call after call, so a hit is a pointer comparison instead of a UTF-8 copy and a
+/// hash lookup. Holding the string keeps its address from being reused by another.
+#[derive(Debug, Default)]
+pub(crate) struct FrameCache(Mutex<Vec<(Py<PyString>, FrameId)>>);
+
+/// Names a [`FrameCache`] keeps (the oldest is dropped for a new one).
+const FRAME_CACHE: usize = 8;
+
 impl PyModel {
     /// Looks up a link or named frame.
     pub(crate) fn frame(&self, name: &str, family: Family) -> PyResult<FrameId> {
         FrameId::find(&self.model, name).map_err(|e| family.err(e.to_string()))
+    }
+
+    /// Looks up a link or named frame given as a Python string, through the model's cache.
+    pub(crate) fn frame_of(&self, name: &Bound<'_, PyString>, family: Family) -> PyResult<FrameId> {
+        let cache = &self.frame_cache.0;
+        let lock = || cache.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(&(_, id)) = lock().iter().find(|(s, _)| s.as_ptr() == name.as_ptr()) {
+            return Ok(id);
+        }
+        let id = self.frame(&name.to_cow()?, family)?;
+        let mut cached = lock();
+        if cached.len() >= FRAME_CACHE {
+            cached.remove(0);
+        }
+        cached.push((name.clone().unbind(), id));
+        Ok(id)
     }
 }
 
@@ -187,10 +235,10 @@ impl PyModel {
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
-        name: &str,
+        name: &Bound<'py, PyString>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
-        let frame = self.frame(name, f)?;
+        let frame = self.frame_of(name, f)?;
         let q = self.q(q, f)?;
         run(py, self, &[&q], &[4, 4], f, |d, x, out| {
             let k = d.kinematics_mut();
@@ -240,18 +288,21 @@ impl PyModel {
     /// >>> buffer = np.empty((6, 9))
     /// >>> panda.frame_jacobian(panda.neutral(), "panda_hand_tcp", out=buffer) is buffer
     /// True
-    #[pyo3(signature = (q, name, reference = "local_world_aligned", out = None))]
+    #[pyo3(
+        signature = (q, name, reference = None, out = None),
+        text_signature = "(self, q, name, reference=\"local_world_aligned\", out=None)"
+    )]
     fn frame_jacobian<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
-        name: &str,
-        reference: &str,
+        name: &Bound<'py, PyString>,
+        reference: Option<&Bound<'py, PyString>>,
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
-        let frame = self.frame(name, f)?;
-        let reference = reference_frame(reference, f)?;
+        let frame = self.frame_of(name, f)?;
+        let reference = reference_of(reference, f)?;
         let q = self.q(q, f)?;
         let nv = self.model.nv();
         let one = |d: &mut DynamicsData, x: &[&[f64]], out: &mut [f64]| {

@@ -2,6 +2,7 @@
 
 use crate::arrays::{KinematicsBlock, Pool, States, finite, run_with, states, to_numpy};
 use crate::errors::{Family, py_err};
+use crate::kinematics::FrameCache;
 use kinetree::dynamics::batch::DynamicsBatch;
 use kinetree::dynamics::{DerivativesData, DynamicsData};
 use kinetree::kinematics::configuration;
@@ -48,6 +49,8 @@ pub(crate) struct PyModel {
     pub(crate) kinematics_batch_pool: Pool<KinematicsBlock>,
     /// Workspaces of the batched dynamics (RNEA, ABA, CRBA), as `dynamics_pool`.
     pub(crate) dynamics_batch_pool: Pool<DynamicsBatch>,
+    /// Links and frames looked up by name (`frame_jacobian`, `frame_placement`).
+    pub(crate) frame_cache: FrameCache,
 }
 
 impl PyModel {
@@ -59,6 +62,7 @@ impl PyModel {
             derivatives_pool: Pool::default(),
             kinematics_batch_pool: Pool::default(),
             dynamics_batch_pool: Pool::default(),
+            frame_cache: FrameCache::default(),
         }
     }
 

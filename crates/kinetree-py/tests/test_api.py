@@ -230,3 +230,30 @@ def test_a_composite_joint_is_one_joint():
     pose = leg.frame_placement(q, "thigh")
     np.testing.assert_allclose(pose[:3, 3], [0.1, 0, 0], atol=1e-15)
     np.testing.assert_allclose(pose[2, 0], -np.sin(0.3) * np.cos(-0.2), atol=1e-15)
+
+
+def test_frame_names_are_found_whatever_string_object_carries_them(panda):
+    # frame_jacobian and frame_placement cache names by string object: equal strings made at run
+    # time, more names than the cache holds, and unknown names all behave as the first call.
+    q = panda.random_configuration(seed=3)
+    names = panda.link_names + panda.frame_names
+    assert len(names) > 8
+    expected = {n: (panda.frame_jacobian(q, n), panda.frame_placement(q, n)) for n in names}
+    for _ in range(2):
+        for n in names:
+            fresh = "".join(list(n))  # an equal string, another object
+            for s in (n, fresh):
+                assert np.array_equal(panda.frame_jacobian(q, s), expected[n][0])
+                assert np.array_equal(panda.frame_placement(q, s), expected[n][1])
+    tcp = "panda_hand_tcp"
+    for ref in ("local", "world", "local_world_aligned"):
+        fresh = "".join(list(ref))
+        assert np.array_equal(panda.frame_jacobian(q, tcp, fresh), panda.frame_jacobian(q, tcp, ref))
+        assert np.array_equal(panda.frame_jacobian(q, tcp, reference=ref),
+                              panda.frame_jacobian(q, tcp, ref))
+    assert not np.array_equal(panda.frame_jacobian(q, tcp, "local"), panda.frame_jacobian(q, tcp, "world"))
+    for _ in range(2):  # an unknown name is not cached as known
+        with pytest.raises(kinetree.KinematicsError, match="no_such_link"):
+            panda.frame_jacobian(q, "no_such_link")
+    with pytest.raises(kinetree.KinematicsError, match="reference must be"):
+        panda.frame_jacobian(q, tcp, "".join(list("sideways")))
