@@ -3,9 +3,13 @@
 //! every call includes forward kinematics and the shape placement update, over 200 random
 //! configurations.
 //!
+//! The batched rows time the 200 states as one batch (divide by 200 for ns/state), on one core
+//! and on every core.
+//!
 //! `cargo bench --bench collision`; compare runs with `--save-baseline` / `--baseline`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use kinetree::collision::batch::{CollisionBatch, distances_batch};
 use kinetree::collision::kinematics::KinematicsData;
 use kinetree::collision::kinematics::configuration::random_configuration;
 use kinetree::collision::{
@@ -13,6 +17,7 @@ use kinetree::collision::{
     compute_self_collisions,
 };
 use kinetree::model::{Model, RootJoint};
+use kinetree::parallel::{self as par, Parallel};
 use rand::SeedableRng;
 use std::hint::black_box;
 
@@ -63,6 +68,27 @@ fn collision(c: &mut Criterion) {
             compute_distances(&cmodel, &mut data)
                 .expect("same model")
                 .len()
+        })
+    });
+    // The 200 states as one batch: ns per state is the time divided by 200.
+    let flat: Vec<f64> = qs.iter().flatten().copied().collect();
+    let mut batch = CollisionBatch::new(&model, &cmodel);
+    let mut pool = Parallel::from_fn(rayon::current_num_threads(), |_| {
+        CollisionBatch::new(&model, &cmodel)
+    });
+    let mut out = vec![0.0; qs.len() * cmodel.pairs().len()];
+    group.bench_function("collision_distances_batch_200", |b| {
+        b.iter(|| {
+            distances_batch(&model, &cmodel, &mut batch, black_box(&flat), &mut out)
+                .expect("valid states");
+            out[0]
+        })
+    });
+    group.bench_function("collision_distances_batch_200_parallel", |b| {
+        b.iter(|| {
+            par::distances_batch(&model, &cmodel, &mut pool, black_box(&flat), &mut out)
+                .expect("valid states");
+            out[0]
         })
     });
     group.finish();

@@ -339,3 +339,74 @@ mod dynamics {
         })
     }
 }
+
+#[cfg(feature = "collision")]
+pub use collision::{distances_batch, min_distance_batch};
+
+#[cfg(feature = "collision")]
+mod collision {
+    use super::{In, Out, Parallel, run};
+    use crate::collision::batch::{self as cb, CollisionBatch};
+    use crate::collision::{CollisionError, CollisionModel};
+    use crate::kinematics::model::Model;
+
+    fn shift(e: CollisionError, first: usize) -> CollisionError {
+        match e {
+            CollisionError::InBatchState { index, source } => CollisionError::InBatchState {
+                index: index + first,
+                source,
+            },
+            e => e,
+        }
+    }
+
+    /// The number of states when `q` and the output (`per_out` numbers per state) agree.
+    fn states(model: &Model, q: usize, out: usize, per_out: usize) -> Option<usize> {
+        let nq = model.nq();
+        let n = q.checked_div(nq).unwrap_or(out / per_out.max(1));
+        (q == n * nq && out == n * per_out).then_some(n)
+    }
+
+    /// [`collision::batch::distances_batch`](cb::distances_batch) on every core (one
+    /// [`CollisionBatch`] per block: build the pool with [`Parallel::from_fn`]).
+    ///
+    /// # Errors
+    /// As the one-core function; a bad state is reported with its index in the whole batch.
+    pub fn distances_batch(
+        model: &Model,
+        cmodel: &CollisionModel,
+        pool: &mut Parallel<CollisionBatch>,
+        q: &[f64],
+        distances: &mut [f64],
+    ) -> Result<(), CollisionError> {
+        let (nq, np) = (model.nq(), cmodel.pairs().len());
+        let Some(n) = states(model, q.len(), distances.len(), np) else {
+            return cb::distances_batch(model, cmodel, &mut pool.workers[0], q, distances);
+        };
+        let parts = (In(q, nq), Out(distances, np));
+        run(&mut pool.workers, n, 0, parts, &|w, (q, d), first| {
+            cb::distances_batch(model, cmodel, w, q.0, d.0).map_err(|e| shift(e, first))
+        })
+    }
+
+    /// [`collision::batch::min_distance_batch`](cb::min_distance_batch) on every core.
+    ///
+    /// # Errors
+    /// As the one-core function; a bad state is reported with its index in the whole batch.
+    pub fn min_distance_batch(
+        model: &Model,
+        cmodel: &CollisionModel,
+        pool: &mut Parallel<CollisionBatch>,
+        q: &[f64],
+        min: &mut [f64],
+    ) -> Result<(), CollisionError> {
+        let nq = model.nq();
+        let Some(n) = states(model, q.len(), min.len(), 1) else {
+            return cb::min_distance_batch(model, cmodel, &mut pool.workers[0], q, min);
+        };
+        let parts = (In(q, nq), Out(min, 1));
+        run(&mut pool.workers, n, 0, parts, &|w, (q, m), first| {
+            cb::min_distance_batch(model, cmodel, w, q.0, m.0).map_err(|e| shift(e, first))
+        })
+    }
+}

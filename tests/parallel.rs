@@ -109,3 +109,31 @@ fn a_bad_state_keeps_its_index_across_blocks() {
         "{err:?}"
     );
 }
+
+#[test]
+fn collision_batches_split_without_changing_a_number() {
+    use kinetree::collision::batch::{CollisionBatch, distances_batch, min_distance_batch};
+    use kinetree::collision::{CollisionError, CollisionModel, CollisionOptions};
+    let model = robot("panda_collision.urdf", RootJoint::Fixed);
+    let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default()).unwrap();
+    let (n, np) = (37, cmodel.pairs().len());
+    let (mut q, _, _) = states(&model, n);
+    let mut one = CollisionBatch::new(&model, &cmodel);
+    let (mut distances, mut min) = (vec![0.0; n * np], vec![0.0; n]);
+    distances_batch(&model, &cmodel, &mut one, &q, &mut distances).unwrap();
+    min_distance_batch(&model, &cmodel, &mut one, &q, &mut min).unwrap();
+    for threads in 1..=4 {
+        let mut pool = Parallel::from_fn(threads, |_| CollisionBatch::new(&model, &cmodel));
+        let (mut d, mut m) = (vec![0.0; n * np], vec![0.0; n]);
+        par::distances_batch(&model, &cmodel, &mut pool, &q, &mut d).unwrap();
+        par::min_distance_batch(&model, &cmodel, &mut pool, &q, &mut m).unwrap();
+        assert_eq!(d, distances, "{threads} blocks");
+        assert_eq!(m, min, "{threads} blocks");
+    }
+    q[30 * model.nq() + 2] = f64::INFINITY;
+    let mut pool = Parallel::from_fn(3, |_| CollisionBatch::new(&model, &cmodel));
+    match par::min_distance_batch(&model, &cmodel, &mut pool, &q, &mut min) {
+        Err(CollisionError::InBatchState { index: 30, .. }) => {}
+        other => panic!("{other:?}"),
+    }
+}

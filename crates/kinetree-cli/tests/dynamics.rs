@@ -154,6 +154,33 @@ fn bench_prints_stable_json_keys() {
 }
 
 #[test]
+fn bench_batch_times_collision_distances() {
+    let run = |model: &str| {
+        let o = kinetree(&[
+            "bench",
+            model,
+            "--batch",
+            "4",
+            "--calls",
+            "40",
+            "--repetitions",
+            "1",
+            "--threads",
+            "2",
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_str::<serde_json::Value>(stdout(&o).trim()).unwrap()["ns_per_state"]
+            ["collision_distances"]
+            .clone()
+    };
+    let row = run(&data("reference/urdf/panda_collision.urdf"));
+    for key in ["single", "batched", "parallel"] {
+        assert!(row[key].as_f64().is_some_and(|x| x > 0.0), "{key}: {row}");
+    }
+}
+
+#[test]
 fn dynamics_prints_torques_that_aba_inverts() {
     // A pendulum about y with its 1 kg bob 0.5 m along x: gravity pulls with +m·g·l = 4.905 N·m
     // about y, so holding it at rest takes τ = -4.905 N·m, and that torque gives zero acceleration.

@@ -10,6 +10,16 @@ pub enum CollisionError {
     /// An error from the kinematics (or model) layer.
     #[error(transparent)]
     Kinematics(#[from] KinematicsError),
+    /// A state of a batch (see [`crate::batch`]) failed: `index` is the state's position in the
+    /// batch and `source` says what was wrong with it.
+    #[error("state {index} of the batch: {source}")]
+    InBatchState {
+        /// The state's index in the batch (0-based).
+        index: usize,
+        /// What went wrong with that state.
+        #[source]
+        source: Box<CollisionError>,
+    },
     /// A mesh file named by a collision element was not found in any search path.
     #[error("mesh '{filename}' of link '{link}' not found (searched: {})", display_paths(.searched))]
     MeshNotFound {

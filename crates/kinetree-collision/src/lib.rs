@@ -77,6 +77,7 @@
 //!   disabled pairs; [`sampling`]: proposing pairs to disable.
 //! - `data`: [`CollisionData`] (shape poses, obstacles, results); `scene`: [`ObstacleScene`]
 //!   files; `pose`: conversions to parry's poses.
+//! - [`batch`]: signed distances of `N` configurations in one call ([`batch::CollisionBatch`]).
 //! - [`query`]: the queries; `narrow`: the narrow phase (closed forms, then `gjk`, the crate's
 //!   GJK/EPA, then parry); `frames`: the distance queries' narrow phase on matrix-form frames;
 //!   `cylinders`: the certified cylinder–cylinder search.
@@ -86,6 +87,7 @@
 //! None. Meshes are read by the crate's own small STL (binary and ASCII) and OBJ readers
 //! ([`mesh`]); COLLADA is not supported.
 
+pub mod batch;
 pub mod build;
 mod cylinders;
 mod data;

@@ -39,7 +39,7 @@ use std::time::Instant;
 #[derive(Debug, clap::Args)]
 pub(crate) struct Args {
     /// The model file (.urdf or .json).
-    model: PathBuf,
+    pub(crate) model: PathBuf,
     /// Attach the root link by a 6-DoF floating joint named `root_joint`.
     #[arg(long)]
     floating: bool,
@@ -58,7 +58,7 @@ pub(crate) struct Args {
     /// A directory where collision meshes are looked up (`package://` and relative names) after
     /// the model file's directory, as in `collide`; repeatable.
     #[arg(long = "mesh-path")]
-    mesh_paths: Vec<PathBuf>,
+    pub(crate) mesh_paths: Vec<PathBuf>,
     /// Run even when --calls × (--repetitions + 1) exceeds the limit of 10⁹ calls per algorithm.
     #[arg(long)]
     no_limit: bool,

@@ -7,7 +7,8 @@
 //! printed. With `--json`:
 //! `{"model", "nq", "nv", "batch", "threads", "simd", "ns_per_state": {"fk": {"single",
 //! "batched", "parallel"}, …}}` with the keys `fk`, `fk_frames`, `frame_jacobian`, `rnea`,
-//! `aba`, `crba`.
+//! `aba`, `crba`, and `collision_distances` (all-pairs signed distances, placements included)
+//! for models with collision geometry, timed on a tenth of `--calls` states.
 
 use anyhow::Result;
 use kinetree::dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
@@ -233,7 +234,20 @@ pub(crate) fn run(args: &super::bench::Args, model: &Model, n: usize) -> Result<
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()?;
-    let (rows, threads) = pool.install(|| (rows(&setup), rayon::current_num_threads()));
+    let options = kinetree::collision::CollisionOptions::default()
+        .with_model_file(&args.model, &args.mesh_paths)
+        .skip_missing_meshes();
+    let cmodel = kinetree::collision::CollisionModel::from_model(model, &options).ok();
+    let (rows, threads) = pool.install(|| {
+        let mut rows = rows(&setup);
+        rows.extend(
+            cmodel
+                .as_ref()
+                .filter(|c| !c.pairs().is_empty())
+                .map(|c| collision_row(&setup, c)),
+        );
+        (rows, rayon::current_num_threads())
+    });
     let simd = KinematicsBatch::new(model).simd();
     if args.json {
         let map: serde_json::Map<String, serde_json::Value> = rows
@@ -278,4 +292,39 @@ pub(crate) fn run(args: &super::bench::Args, model: &Model, n: usize) -> Result<
         }
     }
     Ok(())
+}
+
+/// The batched all-pairs signed distances beside the one-state query (placements included), on
+/// a tenth of the states of the other rows.
+fn collision_row(s: &Setup<'_>, cmodel: &kinetree::collision::CollisionModel) -> Row {
+    use kinetree::collision::batch::{CollisionBatch, distances_batch};
+    use kinetree::collision::{CollisionData, compute_distances};
+    let (model, n, nq) = (s.model, s.n, s.model.nq());
+    let q = &s.q[..];
+    let t = |f: &mut dyn FnMut()| time(n, (s.states / 10).max(1), s.reps, f);
+    let mut kinematics = KinematicsData::new(model);
+    let mut data = CollisionData::new(cmodel);
+    let mut one = CollisionBatch::new(model, cmodel);
+    let mut pool = Parallel::from_fn(rayon::current_num_threads(), |_| {
+        CollisionBatch::new(model, cmodel)
+    });
+    let mut out = vec![0.0; n * cmodel.pairs().len()];
+    Row {
+        name: "collision_distances",
+        single: t(&mut || {
+            for k in 0..n {
+                let qk = black_box(&q[k * nq..(k + 1) * nq]);
+                let _ = data.compute_placements(model, cmodel, &mut kinematics, qk);
+                let _ = black_box(compute_distances(cmodel, &mut data).map(|d| d.len()));
+            }
+        }),
+        batched: t(&mut || {
+            let _ = distances_batch(model, cmodel, &mut one, black_box(q), &mut out);
+            black_box(&out);
+        }),
+        parallel: t(&mut || {
+            let _ = par::distances_batch(model, cmodel, &mut pool, black_box(q), &mut out);
+            black_box(&out);
+        }),
+    }
 }

@@ -2,6 +2,7 @@
 //! binary (`kinetree-test-support`) counts allocations made by the current thread.
 
 use crate::common::{panda, q_of};
+use kinetree_collision::batch::{CollisionBatch, distances_batch, min_distance_batch};
 use kinetree_collision::kinematics::KinematicsData;
 use kinetree_collision::kinematics::model::Geometry;
 use kinetree_collision::kinematics::spatial::Se3;
@@ -56,4 +57,28 @@ fn queries_do_not_allocate() {
     run(&mut data);
     let count = allocations_during(|| run(&mut data));
     assert_eq!(count, 0, "the collision queries allocated");
+}
+
+#[test]
+fn batched_queries_do_not_allocate() {
+    let (reference, model) = panda();
+    let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default()).unwrap();
+    let q: Vec<f64> = reference["samples"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|s| q_of(&model, s))
+        .collect();
+    let n = q.len() / model.nq();
+    let mut batch = CollisionBatch::new(&model, &cmodel);
+    let mut distances = vec![0.0; n * cmodel.pairs().len()];
+    let mut min = vec![0.0; n];
+    let mut run = |batch: &mut CollisionBatch| {
+        distances_batch(&model, &cmodel, batch, &q, &mut distances).unwrap();
+        min_distance_batch(&model, &cmodel, batch, &q, &mut min).unwrap();
+    };
+    // Warm-up: the EPA buffers grow on the first penetrating pairs.
+    run(&mut batch);
+    let count = allocations_during(|| run(&mut batch));
+    assert_eq!(count, 0, "the batched collision queries allocated");
 }

@@ -1,6 +1,7 @@
 //! Integration tests of the collision layer.
 
 mod allocation;
+mod batch;
 mod common;
 mod hand;
 mod mesh_primitives;
