@@ -105,12 +105,12 @@ fn batched_kinematics_equals_the_one_state_path() {
                     forward_kinematics(&model, &mut data, &q[k * nq..(k + 1) * nq]).unwrap();
                     update_frame_placements(&model, &mut data).unwrap();
                     let what = format!("{name} {simd:?} n={n} state {k}");
-                    assert_rel(
+                    assert_exact(
                         &se3_numbers(&links[k * nl..(k + 1) * nl]),
                         &se3_numbers(data.world_from_link()),
                         &format!("{what} links"),
                     );
-                    assert_rel(
+                    assert_exact(
                         &se3_numbers(&frames[k * nf..(k + 1) * nf]),
                         &se3_numbers(data.world_from_frame()),
                         &format!("{what} frames"),
@@ -136,7 +136,7 @@ fn batched_kinematics_equals_the_one_state_path() {
                                 &mut column,
                             )
                             .unwrap();
-                            assert_rel(
+                            assert_exact(
                                 &motion_numbers(&jac[k * nv..(k + 1) * nv]),
                                 &motion_numbers(&column),
                                 &format!(

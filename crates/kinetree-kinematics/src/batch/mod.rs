@@ -208,6 +208,7 @@ pub fn forward_kinematics_batch(
         model,
         joint_models: &batch.data.joint_models,
         link_on_body_frame: &batch.data.link_on_body_frame,
+        turn_axis: &batch.data.turn_axis,
     };
     let frames = world_from_frame;
     crate::simd_dispatch!(
@@ -278,6 +279,7 @@ pub fn frame_jacobian_batch(
         model,
         joint_models: &batch.data.joint_models,
         link_on_body_frame: &batch.data.link_on_body_frame,
+        turn_axis: &batch.data.turn_axis,
     };
     crate::simd_dispatch!(
         batch.simd, LaneBuffers, &mut batch.lanes4, &mut batch.lanes8, jacobian_kernel,

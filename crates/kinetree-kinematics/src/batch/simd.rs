@@ -217,26 +217,17 @@ pub fn body_transform<const L: usize>(
     }
 }
 
-/// `parent_from_body` of `b`, whose joint turns about coordinate axis `k` (0, 1, 2 for x, y,
-/// z), in each lane, with the sine and cosine of each lane's angle: as
-/// [`JointModel::placed_transform_factored`] computes them.
+/// `r` times a rotation by `(s, c)` about coordinate axis `k` (as `rotate_about_axis` of
+/// `joint/transform.rs`): two columns of three change.
 #[inline(always)]
-pub fn revolute_axis_transform<const L: usize>(
+pub(crate) fn rotate_about_axis<const L: usize>(
+    r: &LMat3<L>,
     k: usize,
-    b: &Body,
-    q: &[f64],
-    nq: usize,
-    idx: &[usize; L],
-) -> (LSe3<L>, Lanes<L>, Lanes<L>) {
-    let p = &b.placement;
-    let r = &p.rotation;
-    let (s, c) = sin_cos_lanes(joint_value(b, q, nq, idx));
-    let (x, y, z) = (
-        LVec3::splat(r.x_axis),
-        LVec3::splat(r.y_axis),
-        LVec3::splat(r.z_axis),
-    );
-    let rotation = match k {
+    s: Lanes<L>,
+    c: Lanes<L>,
+) -> LMat3<L> {
+    let (x, y, z) = (r.x_axis, r.y_axis, r.z_axis);
+    match k {
         0 => LMat3 {
             x_axis: x,
             y_axis: y.scale(c) + z.scale(s),
@@ -252,7 +243,35 @@ pub fn revolute_axis_transform<const L: usize>(
             y_axis: y.scale(c) - x.scale(s),
             z_axis: z,
         },
-    };
+    }
+}
+
+/// The sine and cosine of the joint value of a one-coordinate body in each lane (as the
+/// one-state sweeps' [`sin_cos`]).
+#[inline(always)]
+pub(crate) fn joint_sin_cos<const L: usize>(
+    b: &Body,
+    q: &[f64],
+    nq: usize,
+    idx: &[usize; L],
+) -> (Lanes<L>, Lanes<L>) {
+    sin_cos_lanes(joint_value(b, q, nq, idx))
+}
+
+/// `parent_from_body` of `b`, whose joint turns about coordinate axis `k` (0, 1, 2 for x, y,
+/// z), in each lane, with the sine and cosine of each lane's angle: as
+/// [`JointModel::placed_transform_factored`] computes them.
+#[inline(always)]
+pub fn revolute_axis_transform<const L: usize>(
+    k: usize,
+    b: &Body,
+    q: &[f64],
+    nq: usize,
+    idx: &[usize; L],
+) -> (LSe3<L>, Lanes<L>, Lanes<L>) {
+    let p = &b.placement;
+    let (s, c) = sin_cos_lanes(joint_value(b, q, nq, idx));
+    let rotation = rotate_about_axis(&LMat3::splat(&p.rotation), k, s, c);
     let x = LSe3 {
         rotation,
         translation: LVec3::splat(p.translation),

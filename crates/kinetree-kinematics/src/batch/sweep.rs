@@ -1,7 +1,7 @@
 //! The lane kernels of batched forward kinematics and frame Jacobians: the one-state sweeps of
 //! `forward.rs` and `jacobian.rs`, over a block of `L` states at a time.
 
-use super::simd::{block_states, body_transform};
+use super::simd::{block_states, body_transform, joint_sin_cos, rotate_about_axis};
 use crate::jacobian::ReferenceFrame;
 use crate::joint::JointModel;
 use kinetree_model::Model;
@@ -32,6 +32,9 @@ pub(crate) struct Shape<'a> {
     pub(crate) model: &'a Model,
     pub(crate) joint_models: &'a [JointModel],
     pub(crate) link_on_body_frame: &'a [bool],
+    /// Per body, the coordinate axis a revolute joint whose placement does not rotate turns
+    /// about (3 for other bodies), as `KinematicsData::turn_axis`.
+    pub(crate) turn_axis: &'a [u8],
 }
 
 /// Every body's world placement for the block of states `idx` (the sweep of `placements`).
@@ -47,6 +50,18 @@ fn body_sweep<const L: usize>(
     let bodies = model.bodies();
     for i in 1..bodies.len() {
         let b = &bodies[i];
+        // As `forward::placements`: the parent's world rotation turned about the joint's axis,
+        // two columns of three, where the placement does not rotate.
+        let k = usize::from(shape.turn_axis[i]);
+        if k < 3 {
+            let (s, c) = joint_sin_cos(b, q, nq, idx);
+            let w = &world[b.parent];
+            world[i] = LSe3 {
+                rotation: rotate_about_axis(&w.rotation, k, s, c),
+                translation: w.rotation.mul_const_vec(b.placement.translation) + w.translation,
+            };
+            continue;
+        }
         let local = body_transform(&shape.joint_models[i], b, q, nq, idx);
         world[i] = if b.parent == 0 {
             local
