@@ -4,7 +4,6 @@
 //! crate's GJK/EPA for the other primitive pairs. Pairs it does not handle (meshes, other
 //! shapes, GJK that does not settle) go through [`proximity`].
 
-use crate::cylinders::cylinder_cylinder;
 use crate::gjk::{Local, signed_distance_mat};
 use crate::narrow::{Kind, Posed, Scratch, Witness, proximity};
 use glam::{DMat3, DVec3};
@@ -76,8 +75,7 @@ pub(crate) fn distance(
                 (Kind::Cylinder(s1), Kind::Cylinder(s2)) => {
                     match cylinder_sides(rot12.y_axis, t12, s1, s2) {
                         Sides::Exact(local) => Some(local),
-                        Sides::Fallback(dir) => cylinder_cylinder(s1, s2, rot12.y_axis, t12, dir)
-                            .or_else(|| gjk(&rot12, t12, s1, s2, dir, scratch)),
+                        Sides::Fallback(dir) => gjk(&rot12, t12, s1, s2, dir, scratch),
                     }
                 }
                 (Kind::Cylinder(s1), Kind::Cuboid(s2)) => gjk0(&rot12, t12, s1, s2, scratch),

@@ -14,7 +14,7 @@ use parry3d_f64::shape::SupportMap;
 /// Relative precision of the distance: iterations stop when the gap between the upper bound
 /// `|v|` and the lower bound `v·w / |v|` is below `REL_TOL · |v|` (1e-8 m for shapes a metre
 /// apart, a hundredth of the reference tolerance; coal's default GJK tolerance is 1e-6).
-pub(crate) const REL_TOL: f64 = 1e-8;
+const REL_TOL: f64 = 1e-8;
 const MAX_ITERATIONS: usize = 64;
 
 #[derive(Clone, Copy)]

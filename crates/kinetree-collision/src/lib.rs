@@ -50,11 +50,9 @@
 //! - **Signed distance:** positive = separation distance; negative = penetration depth (the
 //!   shortest translation separating the shapes), as coal (Pinocchio's collision library)
 //!   reports it. Two spheres, a sphere and a box, cylinder or capsule, and two cylinders side
-//!   to side are computed in closed form; two separated cylinders by a Newton search over the
-//!   separating direction whose result is certified to a relative precision of 1e-8; other
-//!   convex pairs (and cylinders the certificate rejects) by GJK (separated) and EPA
-//!   (penetrating) to the same precision, with parry's GJK/EPA as the fallback; triangle meshes
-//!   by parry's composite-shape queries.
+//!   to side are computed in closed form; other convex pairs by GJK (separated) and EPA
+//!   (penetrating) to a relative precision of 1e-8, with parry's GJK/EPA as the fallback;
+//!   triangle meshes by parry's composite-shape queries.
 //! - Witness points and normals ([`Proximity`]) are in the world frame; the normal points from
 //!   the first shape toward the second.
 //! - URDF shapes: box = full side lengths, cylinder = radius and full length along the
@@ -79,8 +77,7 @@
 //!   files; `pose`: conversions to parry's poses.
 //! - [`batch`]: signed distances of `N` configurations in one call ([`batch::CollisionBatch`]).
 //! - [`query`]: the queries; `narrow`: the narrow phase (closed forms, then `gjk`, the crate's
-//!   GJK/EPA, then parry); `frames`: the distance queries' narrow phase on matrix-form frames;
-//!   `cylinders`: the certified cylinder–cylinder search.
+//!   GJK/EPA, then parry).
 //! - `error`: [`CollisionError`].
 //!
 //! ## Optional cargo features
@@ -89,7 +86,6 @@
 
 pub mod batch;
 pub mod build;
-mod cylinders;
 mod data;
 mod error;
 mod frames;
