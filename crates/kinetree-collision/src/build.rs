@@ -191,6 +191,7 @@ impl CollisionModel {
                 })
                 .collect(),
             disabled: Vec::new(),
+            plan: crate::plan::PairPlan::default(),
         };
         cmodel.rebuild_pairs();
         cmodel.disable_link_pairs(

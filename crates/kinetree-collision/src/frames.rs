@@ -142,32 +142,7 @@ pub(crate) fn ball_primitive(
     let c = rot.transpose() * (center - origin);
     // (point on the primitive's surface, outward unit normal there, signed distance centre-surface)
     let (surface, normal, signed) = match kind {
-        Kind::Cylinder(cyl) => {
-            let (h, r) = (cyl.half_height, cyl.radius);
-            let rho = (c.x * c.x + c.z * c.z).sqrt();
-            let u = if rho > 0.0 {
-                DVec3::new(c.x / rho, 0.0, c.z / rho)
-            } else {
-                DVec3::X
-            };
-            if c.y.abs() <= h && rho <= r {
-                let (to_cap, to_side) = (h - c.y.abs(), r - rho);
-                if to_side < to_cap {
-                    (DVec3::new(u.x * r, c.y, u.z * r), u, -to_side)
-                } else {
-                    let s = if c.y >= 0.0 { 1.0 } else { -1.0 };
-                    (DVec3::new(c.x, s * h, c.z), DVec3::Y * s, -to_cap)
-                }
-            } else {
-                let radial = if rho > r {
-                    u * r
-                } else {
-                    DVec3::new(c.x, 0.0, c.z)
-                };
-                let p = DVec3::new(radial.x, c.y.clamp(-h, h), radial.z);
-                outside(c, p)
-            }
-        }
+        Kind::Cylinder(cyl) => cylinder_point(c, cyl),
         Kind::Cuboid(b) => {
             let h = b.half_extents;
             let inside = c.abs().cmple(h).all();
@@ -211,13 +186,76 @@ pub(crate) fn ball_primitive(
         }
         _ => return None,
     };
+    Some(ball_witness(
+        center,
+        radius,
+        rot,
+        origin,
+        (surface, normal, signed),
+    ))
+}
+
+/// [`ball_primitive`] for a cylinder.
+#[inline(always)]
+pub(crate) fn ball_cylinder(
+    center: DVec3,
+    radius: f64,
+    cyl: &Cylinder,
+    rot: &DMat3,
+    origin: DVec3,
+) -> Witness {
+    let c = rot.transpose() * (center - origin);
+    ball_witness(center, radius, rot, origin, cylinder_point(c, cyl))
+}
+
+/// The world witness of a ball (centre `center`) against a primitive at `rot`, `origin`, from
+/// the primitive's closest surface point to the centre, its normal and the signed distance of
+/// the centre, all in the primitive's frame.
+#[inline(always)]
+fn ball_witness(
+    center: DVec3,
+    radius: f64,
+    rot: &DMat3,
+    origin: DVec3,
+    (surface, normal, signed): (DVec3, DVec3, f64),
+) -> Witness {
     let n = *rot * normal;
-    Some(Witness {
+    Witness {
         distance: signed - radius,
         point_a: *rot * surface + origin,
         point_b: center - n * radius,
         normal: n,
-    })
+    }
+}
+
+/// The surface point of a solid cylinder closest to `c` (its frame), the outward normal there
+/// and the signed distance of `c` (negative inside).
+#[inline(always)]
+fn cylinder_point(c: DVec3, cyl: &Cylinder) -> (DVec3, DVec3, f64) {
+    let (h, r) = (cyl.half_height, cyl.radius);
+    let rho = (c.x * c.x + c.z * c.z).sqrt();
+    let u = if rho > 0.0 {
+        DVec3::new(c.x / rho, 0.0, c.z / rho)
+    } else {
+        DVec3::X
+    };
+    if c.y.abs() <= h && rho <= r {
+        let (to_cap, to_side) = (h - c.y.abs(), r - rho);
+        if to_side < to_cap {
+            (DVec3::new(u.x * r, c.y, u.z * r), u, -to_side)
+        } else {
+            let s = if c.y >= 0.0 { 1.0 } else { -1.0 };
+            (DVec3::new(c.x, s * h, c.z), DVec3::Y * s, -to_cap)
+        }
+    } else {
+        let radial = if rho > r {
+            u * r
+        } else {
+            DVec3::new(c.x, 0.0, c.z)
+        };
+        let p = DVec3::new(radial.x, c.y.clamp(-h, h), radial.z);
+        outside(c, p)
+    }
 }
 
 /// Surface point `p` of a solid primitive closest to an outside point `c`.

@@ -76,7 +76,8 @@
 //! - `data`: [`CollisionData`] (shape poses, obstacles, results); `scene`: [`ObstacleScene`]
 //!   files; `pose`: conversions to parry's poses.
 //! - [`batch`]: signed distances of `N` configurations in one call ([`batch::CollisionBatch`]).
-//! - [`query`]: the queries; `narrow`: the narrow phase (closed forms, then `gjk`, the crate's
+//! - [`query`]: the queries (`plan`: the candidate pairs grouped by shape kinds for the distance
+//!   loops); `narrow`: the narrow phase (closed forms, then `gjk`, the crate's
 //!   GJK/EPA, then parry).
 //! - `error`: [`CollisionError`].
 //!
@@ -94,6 +95,7 @@ pub mod mesh;
 mod model;
 mod narrow;
 mod pairs;
+mod plan;
 mod pose;
 pub mod query;
 pub mod sampling;

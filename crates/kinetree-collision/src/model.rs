@@ -146,6 +146,8 @@ pub struct CollisionModel {
     pub(crate) body_parent: Vec<usize>,
     /// Disabled link pairs, as `(min, max)` link indices, sorted.
     pub(crate) disabled: Vec<(usize, usize)>,
+    /// The pairs grouped by shape kinds for the distance query.
+    pub(crate) plan: crate::plan::PairPlan,
 }
 
 impl CollisionModel {

@@ -107,5 +107,6 @@ impl CollisionModel {
         self.pairs = pairs;
         self.pair_start = pair_start;
         self.link_pairs = link_pairs;
+        self.plan = crate::plan::PairPlan::of(self);
     }
 }

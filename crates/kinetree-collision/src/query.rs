@@ -20,6 +20,7 @@ use crate::data::{CollisionData, Proximity};
 use crate::error::CollisionError;
 use crate::model::CollisionModel;
 use crate::narrow::{Witness, intersects, proximity};
+use crate::plan;
 use core::ops::ControlFlow;
 use kinetree_kinematics::KinematicsData;
 use kinetree_kinematics::model::Model;
@@ -208,33 +209,97 @@ pub fn compute_distances<'d>(
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
     data.check_model(cmodel)?;
+    if !distances_by_kind(cmodel, data) {
+        // A pair failed (unsupported, or not finite): the loop in pair order names the first.
+        for k in 0..cmodel.pairs.len() {
+            let w = pair_distance(cmodel, data, k)?;
+            data.distances[k] = w;
+        }
+    }
     for lp in &mut data.link_pair_distances {
         lp.distance = f64::INFINITY;
     }
-    let (world, frames) = (&data.world_from_shape, &data.frames);
-    for (k, pair) in cmodel.pairs.iter().enumerate() {
-        let (a, b) = (pair.shape_a, pair.shape_b);
-        let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
-        let w = crate::frames::distance(
-            sa.posed(&world[a]),
-            &frames[a],
-            sb.posed(&world[b]),
-            &frames[b],
-            &mut data.scratch,
-        )
-        .map_err(|_| unsupported(sa.name(), sb.name()))?
-        // With no distance bound, only a NaN distance gives no witness.
-        .filter(finite_witness)
-        .ok_or_else(|| overflow(sa.name(), sb.name()))?;
-        data.distances[k] = with_ids(w, a, b);
+    for (pair, d) in cmodel.pairs.iter().zip(&data.distances) {
         let lp = &mut data.link_pair_distances[pair.link_pair];
-        if w.distance < lp.distance {
-            lp.distance = w.distance;
-            lp.shape_a = a;
-            lp.shape_b = b;
+        if d.distance < lp.distance {
+            lp.distance = d.distance;
+            lp.shape_a = d.a;
+            lp.shape_b = d.b;
         }
     }
     Ok(&data.distances)
+}
+
+/// The signed distance of every candidate pair into `data.distances`, kind by kind (see
+/// [`crate::plan`]). `false` when a pair failed; its entry is then not written.
+fn distances_by_kind(cmodel: &CollisionModel, data: &mut CollisionData) -> bool {
+    let plan = &cmodel.plan;
+    let mut ok = true;
+    let frames = &data.frames;
+    let out = &mut data.distances;
+    for p in &plan.ball_ball {
+        let w = plan::ball_ball(&frames[p.a], &frames[p.b], p.ra, p.rb);
+        ok &= finite_witness(&w);
+        out[p.k] = with_ids(w, p.a, p.b);
+    }
+    for p in &plan.ball_cylinder {
+        let w = plan::ball_and_cylinder(p, &frames[p.ball], &frames[p.cylinder]);
+        ok &= finite_witness(&w);
+        out[p.k] = if p.ball_first {
+            with_ids(w, p.ball, p.cylinder)
+        } else {
+            with_ids(w, p.cylinder, p.ball)
+        };
+    }
+    for p in &plan.cylinder_cylinder {
+        let fast = plan::cylinders(p, &data.frames[p.a], &data.frames[p.b], &mut data.scratch);
+        let w = match fast {
+            Some(w) if finite_witness(&w) => with_ids(w, p.a, p.b),
+            Some(_) => {
+                ok = false;
+                continue;
+            }
+            None => match pair_distance(cmodel, data, p.k) {
+                Ok(w) => w,
+                Err(_) => {
+                    ok = false;
+                    continue;
+                }
+            },
+        };
+        data.distances[p.k] = w;
+    }
+    for &k in &plan.general {
+        match pair_distance(cmodel, data, k) {
+            Ok(w) => data.distances[k] = w,
+            Err(_) => ok = false,
+        }
+    }
+    ok
+}
+
+/// The signed distance of pair `k` through the general path.
+pub(crate) fn pair_distance(
+    cmodel: &CollisionModel,
+    data: &mut CollisionData,
+    k: usize,
+) -> Result<Proximity, CollisionError> {
+    let pair = &cmodel.pairs[k];
+    let (a, b) = (pair.shape_a, pair.shape_b);
+    let (sa, sb) = (&cmodel.shapes[a], &cmodel.shapes[b]);
+    let (world, frames) = (&data.world_from_shape, &data.frames);
+    let w = crate::frames::distance(
+        sa.posed(&world[a]),
+        &frames[a],
+        sb.posed(&world[b]),
+        &frames[b],
+        &mut data.scratch,
+    )
+    .map_err(|_| unsupported(sa.name(), sb.name()))?
+    // With no distance bound, only a NaN distance gives no witness.
+    .filter(finite_witness)
+    .ok_or_else(|| overflow(sa.name(), sb.name()))?;
+    Ok(with_ids(w, a, b))
 }
 
 /// The signed distance between every shape and every world obstacle, with witness points
