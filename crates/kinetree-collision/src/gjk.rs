@@ -321,6 +321,7 @@ impl Region {
 
 /// The closest point of the hull of `s[..n]` to the origin, or `None` when the origin is inside
 /// the tetrahedron (the shapes overlap).
+#[inline(always)]
 fn closest_region(s: &[Vertex; 4], n: usize) -> Option<Region> {
     match n {
         2 => Some(segment(s[0].w, s[1].w, 0, 1)),
@@ -329,6 +330,7 @@ fn closest_region(s: &[Vertex; 4], n: usize) -> Option<Region> {
     }
 }
 
+#[inline(always)]
 fn segment(a: DVec3, b: DVec3, i: usize, j: usize) -> Region {
     let ab = b - a;
     let t = -a.dot(ab);
@@ -344,6 +346,7 @@ fn segment(a: DVec3, b: DVec3, i: usize, j: usize) -> Region {
 }
 
 /// Ericson's closest point of a triangle to the origin, by Voronoi region.
+#[inline(always)]
 fn triangle(s: &[Vertex; 4], [i, j, k]: [usize; 3]) -> Region {
     let (a, b, c) = (s[i].w, s[j].w, s[k].w);
     let (ab, ac) = (b - a, c - a);
@@ -385,6 +388,7 @@ fn triangle(s: &[Vertex; 4], [i, j, k]: [usize; 3]) -> Region {
 }
 
 /// Ericson's closest point of a tetrahedron: the best of the faces the origin is outside of.
+#[inline(always)]
 fn tetrahedron(s: &[Vertex; 4]) -> Option<Region> {
     const FACES: [[usize; 4]; 4] = [[0, 1, 2, 3], [0, 2, 3, 1], [0, 3, 1, 2], [1, 3, 2, 0]];
     let mut best: Option<Region> = None;
