@@ -211,12 +211,12 @@ pub fn forward_kinematics_batch(
         turn_axis: &batch.data.turn_axis,
     };
     let frames = world_from_frame;
-    crate::simd_dispatch!(
+    let bad = crate::simd_dispatch!(
         batch.simd, LaneBuffers, &mut batch.lanes4, &mut batch.lanes8, fk_kernel,
         (shape: &Shape<'_> = &shape, q: &[f64] = q, n: usize = n,
-         links: &mut [Se3] = world_from_link, frames: Option<&mut [Se3]> = frames) -> ()
+         links: &mut [Se3] = world_from_link, frames: Option<&mut [Se3]> = frames) -> Option<usize>
     );
-    if let Some(k) = sweep::first_non_finite(world_from_link, nl) {
+    if let Some(k) = bad {
         // The one-state function names the body that overflowed.
         let nq = model.nq();
         crate::forward_kinematics(model, &mut batch.data, &q[k * nq..(k + 1) * nq])
@@ -233,8 +233,8 @@ fn fk_kernel<const L: usize>(
     n: usize,
     links: &mut [Se3],
     frames: Option<&mut [Se3]>,
-) {
-    sweep::forward_kinematics(bufs, shape, q, n, links, frames);
+) -> Option<usize> {
+    sweep::forward_kinematics(bufs, shape, q, n, links, frames)
 }
 
 #[inline(always)]
@@ -246,8 +246,8 @@ fn jacobian_kernel<const L: usize>(
     target: (usize, Se3),
     reference: ReferenceFrame,
     out: &mut [Motion],
-) {
-    sweep::frame_jacobian(bufs, shape, q, n, target, reference, out);
+) -> Option<usize> {
+    sweep::frame_jacobian(bufs, shape, q, n, target, reference, out)
 }
 
 /// The Jacobian of one link or frame in `N` states.
@@ -281,14 +281,14 @@ pub fn frame_jacobian_batch(
         link_on_body_frame: &batch.data.link_on_body_frame,
         turn_axis: &batch.data.turn_axis,
     };
-    crate::simd_dispatch!(
+    let bad = crate::simd_dispatch!(
         batch.simd, LaneBuffers, &mut batch.lanes4, &mut batch.lanes8, jacobian_kernel,
         (shape: &Shape<'_> = &shape, q: &[f64] = q, n: usize = n, target: (usize, Se3) = target,
-         reference: ReferenceFrame = reference, out: &mut [Motion] = out) -> ()
+         reference: ReferenceFrame = reference, out: &mut [Motion] = out) -> Option<usize>
     );
-    if let Some(c) = out.iter().position(|m| !m.is_finite()) {
+    if let Some(k) = bad {
         // The one-state function names the body that overflowed.
-        let (k, nq) = (c / nv.max(1), model.nq());
+        let nq = model.nq();
         crate::compute_frame_jacobian(
             model,
             &mut batch.data,

@@ -45,34 +45,80 @@ fn body_sweep<const L: usize>(
     q: &[f64],
     idx: &[usize; L],
 ) {
-    let model = shape.model;
-    let nq = model.nq();
-    let bodies = model.bodies();
-    for i in 1..bodies.len() {
-        let b = &bodies[i];
-        // As `forward::placements`: the parent's world rotation turned about the joint's axis,
-        // two columns of three, where the placement does not rotate.
-        let k = usize::from(shape.turn_axis[i]);
-        if k < 3 {
-            let (s, c) = joint_sin_cos(b, q, nq, idx);
-            let w = &world[b.parent];
-            world[i] = LSe3 {
-                rotation: rotate_about_axis(&w.rotation, k, s, c),
-                translation: w.rotation.mul_const_vec(b.placement.translation) + w.translation,
-            };
-            continue;
-        }
-        let local = body_transform(&shape.joint_models[i], b, q, nq, idx);
-        world[i] = if b.parent == 0 {
-            local
-        } else {
-            world[b.parent].mul(&local)
-        };
+    for i in 1..shape.model.bodies().len() {
+        place(shape, world, q, idx, i);
     }
 }
 
+/// The world placements of body `target` and its ancestors only (the sweep of
+/// `placements_to`): body `i` supports `target` exactly when `i <= target < subtree_end(i)`.
+#[inline(always)]
+fn body_sweep_to<const L: usize>(
+    shape: &Shape<'_>,
+    world: &mut [LSe3<L>],
+    q: &[f64],
+    idx: &[usize; L],
+    target: usize,
+) {
+    let bodies = shape.model.bodies();
+    for i in 1..=target.min(bodies.len() - 1) {
+        if bodies[i].subtree_end > target {
+            place(shape, world, q, idx, i);
+        }
+    }
+}
+
+/// Body `i`'s world placement from its parent's, for the block of states `idx` (as
+/// `forward::place`).
+#[inline(always)]
+fn place<const L: usize>(
+    shape: &Shape<'_>,
+    world: &mut [LSe3<L>],
+    q: &[f64],
+    idx: &[usize; L],
+    i: usize,
+) {
+    let model = shape.model;
+    let nq = model.nq();
+    let b = &model.bodies()[i];
+    // As `forward::placements`: the parent's world rotation turned about the joint's axis,
+    // two columns of three, where the placement does not rotate.
+    let k = usize::from(shape.turn_axis[i]);
+    if k < 3 {
+        let (s, c) = joint_sin_cos(b, q, nq, idx);
+        let w = &world[b.parent];
+        world[i] = LSe3 {
+            rotation: rotate_about_axis(&w.rotation, k, s, c),
+            translation: w.rotation.mul_const_vec(b.placement.translation) + w.translation,
+        };
+        return;
+    }
+    let local = body_transform(&shape.joint_models[i], b, q, nq, idx);
+    world[i] = if b.parent == 0 {
+        local
+    } else {
+        world[b.parent].mul(&local)
+    };
+}
+
+/// NaN in each lane where a coordinate of `t` is not finite, 0 elsewhere: `x - x` is exactly 0
+/// for a finite `x` and NaN for an infinity or NaN. Sums of probes stay 0 only when every
+/// probed number is finite.
+#[inline(always)]
+fn non_finite<const L: usize>(t: &LVec3<L>) -> Lanes<L> {
+    (t.x - t.x) + (t.y - t.y) + (t.z - t.z)
+}
+
+/// The state of the first of the `count` lanes whose probe (a sum of [`non_finite`]) is not 0,
+/// counting from state `start`.
+#[inline(always)]
+fn first_flagged<const L: usize>(probe: Lanes<L>, start: usize, count: usize) -> Option<usize> {
+    (0..count).find(|&k| probe.0[k] != 0.0).map(|k| start + k)
+}
+
 /// Forward kinematics of the `n` states of `q`: every link's placement into `links`, and every
-/// frame's into `frames` when given (inputs checked by the caller).
+/// frame's into `frames` when given (inputs checked by the caller). Returns the first state with
+/// a link whose translation is not finite (the one-state function's overflow check).
 #[inline(always)]
 pub(crate) fn forward_kinematics<const L: usize>(
     bufs: &mut LaneBuffers<L>,
@@ -81,13 +127,15 @@ pub(crate) fn forward_kinematics<const L: usize>(
     n: usize,
     links: &mut [Se3],
     mut frames: Option<&mut [Se3]>,
-) {
+) -> Option<usize> {
     let model = shape.model;
     let (nl, nf) = (model.links().len(), model.frames().len());
+    let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
         body_sweep(shape, &mut bufs.world_from_body, q, &idx);
+        let mut probe = Lanes::ZERO;
         for l in 0..nl {
             let (b, body_from_link) = model.link_body(l);
             let x = if shape.link_on_body_frame[l] {
@@ -95,10 +143,14 @@ pub(crate) fn forward_kinematics<const L: usize>(
             } else {
                 bufs.world_from_body[b].mul_const(body_from_link)
             };
+            probe = probe + non_finite(&x.translation);
             bufs.world_from_link[l] = x;
             for k in 0..count {
                 links[(start + k) * nl + l] = x.lane(k);
             }
+        }
+        if bad.is_none() {
+            bad = first_flagged(probe, start, count);
         }
         if let Some(frames) = frames.as_deref_mut() {
             for (f, frame) in model.frames().iter().enumerate() {
@@ -109,6 +161,7 @@ pub(crate) fn forward_kinematics<const L: usize>(
             }
         }
     }
+    bad
 }
 
 /// A world-frame twist re-expressed for a frame at `world_from_frame` (as `world_to_reference`
@@ -147,7 +200,9 @@ fn act_axis<const L: usize>(x: &LSe3<L>, k: usize, revolute: bool) -> LMotion<L>
 }
 
 /// The Jacobian of `frame` in `reference` for the `n` states of `q`, into `out` (`n · nv`
-/// columns; inputs checked by the caller), as `compute_frame_jacobian`.
+/// columns; inputs checked by the caller), as `compute_frame_jacobian`, which places only the
+/// frame's body and its ancestors. Returns the first state with a placement on that path or a
+/// column that is not finite.
 #[inline(always)]
 pub(crate) fn frame_jacobian<const L: usize>(
     bufs: &mut LaneBuffers<L>,
@@ -157,21 +212,24 @@ pub(crate) fn frame_jacobian<const L: usize>(
     body_and_placement: (usize, Se3),
     reference: ReferenceFrame,
     out: &mut [Motion],
-) {
+) -> Option<usize> {
     let model = shape.model;
     let nv = model.nv();
     let bodies = model.bodies();
     let (body, body_from_frame) = body_and_placement;
+    let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
-        body_sweep(shape, &mut bufs.world_from_body, q, &idx);
+        body_sweep_to(shape, &mut bufs.world_from_body, q, &idx, body);
         let world_from_frame = bufs.world_from_body[body].mul_const(&body_from_frame);
         bufs.columns.fill(LMotion::ZERO);
+        let mut probe = Lanes::ZERO;
         let mut i = body;
         while i != 0 {
             let b = &bodies[i];
             let x = &bufs.world_from_body[i];
+            probe = probe + non_finite(&x.translation);
             let jm = &shape.joint_models[i];
             let axis = jm.axis_index();
             let column = |k: usize| match axis {
@@ -190,18 +248,14 @@ pub(crate) fn frame_jacobian<const L: usize>(
             i = b.parent;
         }
         for (c, col) in bufs.columns.iter().enumerate() {
+            probe = probe + non_finite(&col.linear) + non_finite(&col.angular);
             for k in 0..count {
                 out[(start + k) * nv + c] = col.lane(k);
             }
         }
+        if bad.is_none() {
+            bad = first_flagged(probe, start, count);
+        }
     }
-}
-
-/// Which states' placements overflowed: the first state of `links` (`nl` per state) with a
-/// non-finite translation.
-pub(crate) fn first_non_finite(links: &[Se3], nl: usize) -> Option<usize> {
-    links
-        .iter()
-        .position(|x| !x.translation.is_finite())
-        .map(|i| i / nl.max(1))
+    bad
 }

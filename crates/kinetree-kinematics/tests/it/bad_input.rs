@@ -189,3 +189,69 @@ fn frame_jacobian_overflow_only_on_the_frames_path() {
     compute_frame_jacobian(&model, &mut data, &q, a, ReferenceFrame::World, &mut jac).unwrap();
     assert_eq!(jac[0].linear.to_array(), [1.0, 0.0, 0.0]);
 }
+
+/// The batched FK and Jacobian report the first state whose placements overflow with the
+/// one-state error, on every instruction set, and keep `compute_frame_jacobian`'s rule that only
+/// the frame's path matters.
+#[test]
+fn a_batch_names_the_first_state_that_overflows() {
+    use kinetree_kinematics::batch::{
+        KinematicsBatch, Simd, forward_kinematics_batch, frame_jacobian_batch,
+    };
+    use kinetree_kinematics::spatial::{Motion, Se3};
+    use kinetree_kinematics::{ReferenceFrame, compute_frame_jacobian};
+    // As above: a base with prismatic branches `a` (s1) and `b` (s2, placed at x = 1e308).
+    let model = Model::from_urdf_str(
+        r#"<robot name="r"><link name="base"/><link name="a"/><link name="b"/>
+           <joint name="s1" type="prismatic"><parent link="base"/><child link="a"/>
+             <axis xyz="1 0 0"/><limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
+           <joint name="s2" type="prismatic"><parent link="base"/><child link="b"/>
+             <origin xyz="1e308 0 0"/>
+             <axis xyz="1 0 0"/><limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
+           </robot>"#,
+        RootJoint::Fixed,
+    )
+    .unwrap();
+    let (a, b) = (
+        FrameId::find(&model, "a").unwrap(),
+        FrameId::find(&model, "b").unwrap(),
+    );
+    let n = 19;
+    let mut q: Vec<f64> = (0..2 * n).map(|i| 0.1 * i as f64).collect();
+    // States 10 and 13 put b at 1e308 + 1e308.
+    q[2 * 10 + 1] = 1e308;
+    q[2 * 13 + 1] = 1e308;
+    let mut data = KinematicsData::new(&model);
+    let mut one = vec![Motion::ZERO; 2];
+    for simd in [Simd::Portable, Simd::Avx2, Simd::Avx512] {
+        let mut batch = KinematicsBatch::with_simd(&model, simd);
+        let mut links = vec![Se3::IDENTITY; n * model.links().len()];
+        match forward_kinematics_batch(&model, &mut batch, &q, &mut links, None) {
+            Err(KinematicsError::InBatchState { index: 10, source }) => {
+                assert!(
+                    matches!(*source, KinematicsError::Overflow { .. }),
+                    "{simd:?}: {source:?}"
+                );
+                assert!(source.to_string().contains("'b'"), "{simd:?}: {source}");
+            }
+            other => panic!("{simd:?}: expected state 10 to overflow, got {other:?}"),
+        }
+        let mut jac = vec![Motion::ZERO; 2 * n];
+        // b's columns are its axis, finite; its placement is not, which the one-state call
+        // reports.
+        match frame_jacobian_batch(&model, &mut batch, &q, b, ReferenceFrame::World, &mut jac) {
+            Err(KinematicsError::InBatchState { index: 10, source }) => {
+                assert!(source.to_string().contains("'b'"), "{simd:?}: {source}");
+            }
+            other => panic!("{simd:?}: expected state 10 to overflow, got {other:?}"),
+        }
+        // a's Jacobian does not depend on b: every state is fine and equals the one-state call.
+        frame_jacobian_batch(&model, &mut batch, &q, a, ReferenceFrame::World, &mut jac).unwrap();
+        for k in 0..n {
+            let qk = &q[2 * k..2 * k + 2];
+            compute_frame_jacobian(&model, &mut data, qk, a, ReferenceFrame::World, &mut one)
+                .unwrap();
+            assert_eq!(&jac[2 * k..2 * k + 2], &one[..], "{simd:?} state {k}");
+        }
+    }
+}
