@@ -9,11 +9,8 @@
 
 use crate::errors::{Family, family_of, to_py};
 use crate::model::PyModel;
-use kinetree::dynamics::batch::DynamicsBatch;
-use kinetree::dynamics::{DerivativesData, DynamicsData, JointTerms};
-use kinetree::kinematics::batch::KinematicsBatch;
-use kinetree::kinematics::spatial::{Motion, Se3};
-use kinetree::model::Model;
+use crate::scratch::Scratch;
+use kinetree::dynamics::{DerivativesData, DynamicsData};
 use numpy::ndarray::{ArrayD, ArrayViewD, IxDyn};
 use numpy::{
     AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods,
@@ -23,7 +20,6 @@ use pyo3::prelude::*;
 use pyo3::types::PyFloat;
 use rayon::prelude::*;
 use std::cell::RefCell;
-use std::sync::{Mutex, PoisonError};
 
 /// Two arrays returned together (`simulate`'s configurations and velocities, `bounds`' corners).
 pub(crate) type ArrayPair<'py> = (
@@ -232,122 +228,6 @@ pub(crate) fn batch_count(inputs: &[&States], family: Family) -> PyResult<Option
         }
     }
     Ok(first)
-}
-
-/// A fresh workspace for `model`: rigid-body dynamics (the joints' damping, friction and armature
-/// left out, as in Pinocchio and the contract).
-pub(crate) fn new_data(model: &Model) -> DynamicsData {
-    DynamicsData::with_joint_terms(model, JointTerms::Ignored)
-}
-
-/// A fresh workspace for the analytic derivatives, rigid-body as [`new_data`].
-pub(crate) fn new_derivatives_data(model: &Model) -> DerivativesData {
-    DerivativesData::with_joint_terms(model, JointTerms::Ignored)
-}
-
-/// Workspaces of one kind kept by a model for reuse: a one-state call takes one and gives it
-/// back, and each worker of a stacked call takes one for its whole block of states, so calls
-/// after the first allocate no workspace.
-#[derive(Debug)]
-pub(crate) struct Pool<S>(Mutex<Vec<S>>);
-
-impl<S> Default for Pool<S> {
-    fn default() -> Self {
-        Self(Mutex::new(Vec::new()))
-    }
-}
-
-impl<S> Pool<S> {
-    /// Runs `f` with a workspace of the pool, made by `fresh` when none is free.
-    fn with<R>(&self, fresh: impl FnOnce() -> S, f: impl FnOnce(&mut S) -> R) -> R {
-        let taken = self.0.lock().unwrap_or_else(PoisonError::into_inner).pop();
-        let mut scratch = taken.unwrap_or_else(fresh);
-        let result = f(&mut scratch);
-        self.0
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .push(scratch);
-        result
-    }
-}
-
-/// The workspace a per-state computation needs, and where a model keeps spare ones.
-pub(crate) trait Scratch: Send + Sized {
-    /// Runs `f` with a workspace for `model` (taken from its pool, or made).
-    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R;
-}
-
-/// Computations that need no workspace (the configuration-space operations).
-impl Scratch for () {
-    fn with<R>(_: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
-        f(&mut ())
-    }
-}
-
-impl Scratch for DynamicsData {
-    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
-        model.dynamics_pool.with(|| new_data(&model.model), f)
-    }
-}
-
-impl Scratch for DerivativesData {
-    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
-        model
-            .derivatives_pool
-            .with(|| new_derivatives_data(&model.model), f)
-    }
-}
-
-impl Scratch for DynamicsBatch {
-    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
-        model.dynamics_batch_pool.with(
-            || DynamicsBatch::with_joint_terms(&model.model, JointTerms::Ignored),
-            f,
-        )
-    }
-}
-
-/// The workspace of the batched kinematics, with room for a block's placements or Jacobian
-/// columns before they are written out as numpy rows.
-#[derive(Debug)]
-pub(crate) struct KinematicsBlock {
-    /// The batched kernels' buffers.
-    pub(crate) batch: KinematicsBatch,
-    /// Link placements of a block of states.
-    pub(crate) poses: Vec<Se3>,
-    /// Jacobian columns of a block of states.
-    pub(crate) columns: Vec<Motion>,
-}
-
-impl KinematicsBlock {
-    /// The kernels' buffers and the first `n` placements (the buffer grown, once, when a block
-    /// needs more).
-    pub(crate) fn poses(&mut self, n: usize) -> (&mut KinematicsBatch, &mut [Se3]) {
-        if self.poses.len() < n {
-            self.poses.resize(n, Se3::IDENTITY);
-        }
-        (&mut self.batch, &mut self.poses[..n])
-    }
-
-    /// The kernels' buffers and the first `n` Jacobian columns, grown as
-    /// [`poses`](Self::poses).
-    pub(crate) fn columns(&mut self, n: usize) -> (&mut KinematicsBatch, &mut [Motion]) {
-        if self.columns.len() < n {
-            self.columns.resize(n, Motion::ZERO);
-        }
-        (&mut self.batch, &mut self.columns[..n])
-    }
-}
-
-impl Scratch for KinematicsBlock {
-    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
-        let fresh = || KinematicsBlock {
-            batch: KinematicsBatch::new(&model.model),
-            poses: Vec::new(),
-            columns: Vec::new(),
-        };
-        model.kinematics_batch_pool.with(fresh, f)
-    }
 }
 
 /// The result of a computation over a block of states: on failure, the index of the failing
@@ -586,13 +466,31 @@ where
         return Ok((array, None));
     }
     let array = output(py, out, &shape, family)?;
+    let not_writeable = |e: &dyn std::fmt::Display| {
+        family.err(format!(
+            "out cannot be written ({e}): pass a writeable float64 array of shape {}",
+            shape_text(&shape)
+        ))
+    };
+    if count.is_none() {
+        // One state into the caller's array, written here with the GIL held: no other Python
+        // code runs until the call returns, so numpy's borrow tracking (a third of the cost of a
+        // small call) is not needed. The flags are checked as the tracking would.
+        if !is_writeable(&array) {
+            return Err(not_writeable(&"the array is read-only"));
+        }
+        // SAFETY: `array` is a C-contiguous float64 array of `size` numbers (checked by
+        // `output`), aligned (numpy aligns float64 arrays it allocates; a misaligned view fails
+        // `as_slice_mut`) and writeable. The slice lives only during `one`, which is Rust code
+        // run with the GIL held (it calls no Python code), and the inputs were copied out of
+        // their arrays before, so nothing else reads or writes this memory meanwhile.
+        #[allow(unsafe_code, reason = "numpy's borrow tracking skipped under the GIL")]
+        let values = unsafe { array.as_slice_mut() }.map_err(|e| not_writeable(&e))?;
+        one(values)?;
+        return Ok((array, None));
+    }
     {
-        let mut writable = array.try_readwrite().map_err(|e| {
-            family.err(format!(
-                "out cannot be written ({e}): pass a writeable float64 array of shape {}",
-                shape_text(&shape)
-            ))
-        })?;
+        let mut writable = array.try_readwrite().map_err(|e| not_writeable(&e))?;
         let values = writable.as_slice_mut()?;
         match count {
             None => one(values)?,
@@ -600,6 +498,14 @@ where
         }
     }
     Ok((array, count))
+}
+
+/// Whether numpy may write into `array` (its `WRITEABLE` flag).
+fn is_writeable(array: &Bound<'_, PyArrayDyn<f64>>) -> bool {
+    // SAFETY: `array` is a live numpy array (a checked cast), so its object holds the flags.
+    #[allow(unsafe_code, reason = "numpy's array flags have no safe accessor")]
+    let flags = unsafe { (*numpy::npyffi::_PyArray_GET_ITEM_DATA(array.as_array_ptr())).flags };
+    flags & numpy::npyffi::NPY_ARRAY_WRITEABLE != 0
 }
 
 thread_local! {

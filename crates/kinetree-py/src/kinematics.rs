@@ -1,7 +1,8 @@
 //! `Model` methods of the kinematics layer: poses, Jacobians and their time derivatives, frame
 //! velocities and accelerations.
 
-use crate::arrays::{KinematicsBlock, in_block, run, run_blocks};
+use crate::arrays::{in_block, run, run_blocks};
+use crate::scratch::KinematicsBlock;
 use crate::errors::Family;
 use crate::model::PyModel;
 use kinetree::dynamics::DynamicsData;

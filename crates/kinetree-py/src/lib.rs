@@ -6,6 +6,7 @@
 //!   [`kinetree::Error`];
 //! - `arrays`: numpy inputs (shape, dtype and finiteness checks) and the batch runner, which
 //!   computes stacked states in parallel with the GIL released;
+//! - `scratch`: the workspaces calls reuse (pooled per model);
 //! - `model`: the `Model` class (loading, sizes, names, limits, configuration-space helpers,
 //!   pickling);
 //! - `kinematics` and `dynamics`: `Model` methods for poses, Jacobians, velocities and for
@@ -31,6 +32,7 @@ mod errors;
 mod ik;
 mod kinematics;
 mod model;
+mod scratch;
 mod workspace;
 
 use pyo3::prelude::*;

@@ -1,8 +1,9 @@
 //! The `Model` class: loading, sizes, names, limits, configuration-space helpers and pickling.
 
-use crate::arrays::{KinematicsBlock, Pool, States, finite, run_with, states, to_numpy};
+use crate::arrays::{States, finite, run_with, states, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::kinematics::FrameCache;
+use crate::scratch::{KinematicsBlock, Pool};
 use kinetree::dynamics::batch::DynamicsBatch;
 use kinetree::dynamics::{DerivativesData, DynamicsData};
 use kinetree::kinematics::configuration;

@@ -1,0 +1,129 @@
+//! Workspaces: the buffers a computation needs, made once per model and reused by later calls.
+//!
+//! A one-state call takes a workspace from the model's [`Pool`] and gives it back; each worker of
+//! a stacked call takes one for its whole block of states.
+
+use crate::model::PyModel;
+use kinetree::dynamics::batch::DynamicsBatch;
+use kinetree::dynamics::{DerivativesData, DynamicsData, JointTerms};
+use kinetree::kinematics::batch::KinematicsBatch;
+use kinetree::kinematics::spatial::{Motion, Se3};
+use kinetree::model::Model;
+use std::sync::{Mutex, PoisonError};
+
+/// A fresh workspace for `model`: rigid-body dynamics (the joints' damping, friction and armature
+/// left out, as in Pinocchio and the contract).
+pub(crate) fn new_data(model: &Model) -> DynamicsData {
+    DynamicsData::with_joint_terms(model, JointTerms::Ignored)
+}
+
+/// A fresh workspace for the analytic derivatives, rigid-body as [`new_data`].
+pub(crate) fn new_derivatives_data(model: &Model) -> DerivativesData {
+    DerivativesData::with_joint_terms(model, JointTerms::Ignored)
+}
+
+/// Workspaces of one kind kept by a model for reuse: a one-state call takes one and gives it
+/// back, and each worker of a stacked call takes one for its whole block of states, so calls
+/// after the first allocate no workspace.
+#[derive(Debug)]
+pub(crate) struct Pool<S>(Mutex<Vec<Box<S>>>);
+
+impl<S> Default for Pool<S> {
+    fn default() -> Self {
+        Self(Mutex::new(Vec::new()))
+    }
+}
+
+impl<S> Pool<S> {
+    /// Runs `f` with a workspace of the pool, made by `fresh` when none is free.
+    fn with<R>(&self, fresh: impl FnOnce() -> S, f: impl FnOnce(&mut S) -> R) -> R {
+        // Boxed, so that taking and returning a workspace moves a pointer, not the workspace.
+        let taken = self.0.lock().unwrap_or_else(PoisonError::into_inner).pop();
+        let mut scratch = taken.unwrap_or_else(|| Box::new(fresh()));
+        let result = f(&mut scratch);
+        self.0
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push(scratch);
+        result
+    }
+}
+
+/// The workspace a per-state computation needs, and where a model keeps spare ones.
+pub(crate) trait Scratch: Send + Sized {
+    /// Runs `f` with a workspace for `model` (taken from its pool, or made).
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R;
+}
+
+/// Computations that need no workspace (the configuration-space operations).
+impl Scratch for () {
+    fn with<R>(_: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        f(&mut ())
+    }
+}
+
+impl Scratch for DynamicsData {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        model.dynamics_pool.with(|| new_data(&model.model), f)
+    }
+}
+
+impl Scratch for DerivativesData {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        model
+            .derivatives_pool
+            .with(|| new_derivatives_data(&model.model), f)
+    }
+}
+
+impl Scratch for DynamicsBatch {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        model.dynamics_batch_pool.with(
+            || DynamicsBatch::with_joint_terms(&model.model, JointTerms::Ignored),
+            f,
+        )
+    }
+}
+
+/// The workspace of the batched kinematics, with room for a block's placements or Jacobian
+/// columns before they are written out as numpy rows.
+#[derive(Debug)]
+pub(crate) struct KinematicsBlock {
+    /// The batched kernels' buffers.
+    pub(crate) batch: KinematicsBatch,
+    /// Link placements of a block of states.
+    pub(crate) poses: Vec<Se3>,
+    /// Jacobian columns of a block of states.
+    pub(crate) columns: Vec<Motion>,
+}
+
+impl KinematicsBlock {
+    /// The kernels' buffers and the first `n` placements (the buffer grown, once, when a block
+    /// needs more).
+    pub(crate) fn poses(&mut self, n: usize) -> (&mut KinematicsBatch, &mut [Se3]) {
+        if self.poses.len() < n {
+            self.poses.resize(n, Se3::IDENTITY);
+        }
+        (&mut self.batch, &mut self.poses[..n])
+    }
+
+    /// The kernels' buffers and the first `n` Jacobian columns, grown as
+    /// [`poses`](Self::poses).
+    pub(crate) fn columns(&mut self, n: usize) -> (&mut KinematicsBatch, &mut [Motion]) {
+        if self.columns.len() < n {
+            self.columns.resize(n, Motion::ZERO);
+        }
+        (&mut self.batch, &mut self.columns[..n])
+    }
+}
+
+impl Scratch for KinematicsBlock {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        let fresh = || KinematicsBlock {
+            batch: KinematicsBatch::new(&model.model),
+            poses: Vec::new(),
+            columns: Vec::new(),
+        };
+        model.kinematics_batch_pool.with(fresh, f)
+    }
+}
