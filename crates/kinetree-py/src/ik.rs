@@ -247,7 +247,10 @@ impl PyIkSolver {
     #[pyo3(signature = (model, *, position_tolerance = 1e-6, orientation_tolerance = 1e-5,
         max_iterations = 10_000, max_iterations_per_try = 60, max_restarts = None,
         time_budget = Some(0.005), seed = 0, max_targets = 4, orientation_weight = 0.35,
-        damping = 0.1))]
+        damping = 0.1),
+        text_signature = "(model, *, position_tolerance=1e-6, orientation_tolerance=1e-5, \
+            max_iterations=10000, max_iterations_per_try=60, max_restarts=None, \
+            time_budget=0.005, seed=0, max_targets=4, orientation_weight=0.35, damping=0.1)")]
     #[allow(
         clippy::too_many_arguments,
         reason = "a Python signature with keyword defaults"

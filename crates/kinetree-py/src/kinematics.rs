@@ -2,9 +2,9 @@
 //! velocities and accelerations.
 
 use crate::arrays::{in_block, run, run_blocks};
-use crate::scratch::KinematicsBlock;
 use crate::errors::Family;
 use crate::model::PyModel;
+use crate::scratch::KinematicsBlock;
 use kinetree::dynamics::DynamicsData;
 use kinetree::kinematics::batch::{forward_kinematics_batch, frame_jacobian_batch};
 use kinetree::kinematics::spatial::{Motion, Se3};
@@ -261,11 +261,11 @@ impl PyModel {
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
-        a: &str,
-        b: &str,
+        a: &Bound<'py, PyString>,
+        b: &Bound<'py, PyString>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
-        let (fa, fb) = (self.frame(a, f)?, self.frame(b, f)?);
+        let (fa, fb) = (self.frame_of(a, f)?, self.frame_of(b, f)?);
         let q = self.q(q, f)?;
         run(py, self, &[&q], &[4, 4], f, |d, x, out| {
             let k = d.kinematics_mut();
@@ -278,7 +278,8 @@ impl PyModel {
 
     /// Jacobian of a link or frame: shape ``(6, nv)`` (or ``(N, 6, nv)``), rows linear then
     /// angular, so that ``J @ v`` is the frame's twist in ``reference``
-    /// (``"local_world_aligned"``, ``"local"`` or ``"world"``).
+    /// (``"local_world_aligned"``, ``"local"`` or ``"world"``; ``None``, the default, is
+    /// ``"local_world_aligned"``).
     ///
     /// ``out``, when given, is a C-contiguous, writeable float64 array of that shape: the
     /// Jacobian is written into it and it is returned.
@@ -289,10 +290,7 @@ impl PyModel {
     /// >>> buffer = np.empty((6, 9))
     /// >>> panda.frame_jacobian(panda.neutral(), "panda_hand_tcp", out=buffer) is buffer
     /// True
-    #[pyo3(
-        signature = (q, name, reference = None, out = None),
-        text_signature = "(self, q, name, reference=\"local_world_aligned\", out=None)"
-    )]
+    #[pyo3(signature = (q, name, reference = None, out = None))]
     fn frame_jacobian<'py>(
         &self,
         py: Python<'py>,
@@ -342,18 +340,18 @@ impl PyModel {
     ///
     /// >>> bool(panda.frame_jacobian_time_variation(panda.neutral(), [0.0] * 9, "panda_hand_tcp").any())
     /// False
-    #[pyo3(signature = (q, v, name, reference = "local_world_aligned"))]
+    #[pyo3(signature = (q, v, name, reference = None))]
     fn frame_jacobian_time_variation<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
-        name: &str,
-        reference: &str,
+        name: &Bound<'py, PyString>,
+        reference: Option<&Bound<'py, PyString>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
-        let frame = self.frame(name, f)?;
-        let reference = reference_frame(reference, f)?;
+        let frame = self.frame_of(name, f)?;
+        let reference = reference_of(reference, f)?;
         let (q, v) = (self.q(q, f)?, self.v(v, "v", f)?);
         let nv = self.model.nv();
         run(py, self, &[&q, &v], &[6, nv], f, |d, x, out| {
@@ -373,18 +371,18 @@ impl PyModel {
     /// >>> q, v = panda.neutral(), panda.v_from_dict({"panda_joint1": 2.0})
     /// >>> float(panda.frame_velocity(q, v, "panda_link1")[5])
     /// 2.0
-    #[pyo3(signature = (q, v, name, reference = "local_world_aligned"))]
+    #[pyo3(signature = (q, v, name, reference = None))]
     fn frame_velocity<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
-        name: &str,
-        reference: &str,
+        name: &Bound<'py, PyString>,
+        reference: Option<&Bound<'py, PyString>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
-        let frame = self.frame(name, f)?;
-        let reference = reference_frame(reference, f)?;
+        let frame = self.frame_of(name, f)?;
+        let reference = reference_of(reference, f)?;
         let (q, v) = (self.q(q, f)?, self.v(v, "v", f)?);
         run(py, self, &[&q, &v], &[6], f, |d, x, out| {
             let k = d.kinematics_mut();
@@ -400,19 +398,19 @@ impl PyModel {
     /// >>> q, a = panda.neutral(), panda.v_from_dict({"panda_joint1": 3.0})
     /// >>> float(panda.frame_acceleration(q, [0.0] * 9, a, "panda_link1")[5])
     /// 3.0
-    #[pyo3(signature = (q, v, a, name, reference = "local_world_aligned"))]
+    #[pyo3(signature = (q, v, a, name, reference = None))]
     fn frame_acceleration<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         a: &Bound<'py, PyAny>,
-        name: &str,
-        reference: &str,
+        name: &Bound<'py, PyString>,
+        reference: Option<&Bound<'py, PyString>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
-        let frame = self.frame(name, f)?;
-        let reference = reference_frame(reference, f)?;
+        let frame = self.frame_of(name, f)?;
+        let reference = reference_of(reference, f)?;
         let (q, v, a) = (self.q(q, f)?, self.v(v, "v", f)?, self.v(a, "a", f)?);
         run(py, self, &[&q, &v, &a], &[6], f, |d, x, out| {
             let k = d.kinematics_mut();

@@ -257,3 +257,36 @@ def test_frame_names_are_found_whatever_string_object_carries_them(panda):
             panda.frame_jacobian(q, "no_such_link")
     with pytest.raises(kinetree.KinematicsError, match="reference must be"):
         panda.frame_jacobian(q, tcp, "".join(list("sideways")))
+
+
+def test_reference_none_is_local_world_aligned_and_names_are_found_by_any_string(panda):
+    q = panda.random_configuration(seed=5)
+    v = np.random.default_rng(5).uniform(-1, 1, panda.nv)
+    a = np.random.default_rng(6).uniform(-1, 1, panda.nv)
+    tcp = "panda_hand_tcp"
+    calls = {
+        "frame_jacobian": (q, tcp),
+        "frame_jacobian_time_variation": (q, v, tcp),
+        "frame_velocity": (q, v, tcp),
+        "frame_acceleration": (q, v, a, tcp),
+    }
+    for method, args in calls.items():
+        fn = getattr(panda, method)
+        lwa = fn(*args, "local_world_aligned")
+        assert np.array_equal(fn(*args), lwa), method
+        assert np.array_equal(fn(*args, None), lwa), method
+        assert np.array_equal(fn(*args, reference=None), lwa), method
+        assert not np.array_equal(fn(*args, "local"), lwa) or not lwa.any(), method
+        # an equal name in another string object, twice (the second time from the cache)
+        for _ in range(2):
+            fresh = (*args[:-1], "".join(list(tcp)))
+            assert np.array_equal(fn(*fresh, "".join(list("world"))), fn(*args, "world")), method
+        with pytest.raises(kinetree.KinematicsError, match="reference must be"):
+            fn(*args, "sideways")
+        with pytest.raises(TypeError):
+            fn(*args, 3)
+    expected = panda.relative_transform(q, "panda_link0", tcp)
+    for _ in range(2):
+        got = panda.relative_transform(q, "".join(list("panda_link0")), "".join(list(tcp)))
+        assert np.array_equal(got, expected)
+    np.testing.assert_allclose(expected, panda.frame_placement(q, tcp), atol=1e-15)

@@ -11,7 +11,7 @@ __version__: str
 ArrayLike = npt.ArrayLike
 Array = npt.NDArray[np.float64]
 PathOrText = Union[str, "PathLike[str]"]
-Reference = str  # "local_world_aligned" | "local" | "world"
+Reference = str  # "local_world_aligned" | "local" | "world"; None means "local_world_aligned"
 
 class KinetreeError(ValueError): ...
 class ModelError(KinetreeError): ...
@@ -93,16 +93,16 @@ class Model:
     def frame_placement(self, q: ArrayLike, name: str) -> Array: ...
     def relative_transform(self, q: ArrayLike, a: str, b: str) -> Array: ...
     def frame_jacobian(
-        self, q: ArrayLike, name: str, reference: Reference = "local_world_aligned", out: Optional[Array] = None
+        self, q: ArrayLike, name: str, reference: Optional[Reference] = None, out: Optional[Array] = None
     ) -> Array: ...
     def frame_jacobian_time_variation(
-        self, q: ArrayLike, v: ArrayLike, name: str, reference: Reference = "local_world_aligned"
+        self, q: ArrayLike, v: ArrayLike, name: str, reference: Optional[Reference] = None
     ) -> Array: ...
     def frame_velocity(
-        self, q: ArrayLike, v: ArrayLike, name: str, reference: Reference = "local_world_aligned"
+        self, q: ArrayLike, v: ArrayLike, name: str, reference: Optional[Reference] = None
     ) -> Array: ...
     def frame_acceleration(
-        self, q: ArrayLike, v: ArrayLike, a: ArrayLike, name: str, reference: Reference = "local_world_aligned"
+        self, q: ArrayLike, v: ArrayLike, a: ArrayLike, name: str, reference: Optional[Reference] = None
     ) -> Array: ...
     # Dynamics (rigid-body: joint damping, friction and armature left out, as Pinocchio).
     def rnea(self, q: ArrayLike, v: ArrayLike, a: ArrayLike, out: Optional[Array] = None) -> Array: ...
