@@ -7,6 +7,7 @@ use crate::data::DynamicsData;
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::batch::{block_states, body_transform, revolute_axis_transform};
 use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::RotationForm;
 use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes};
 
 /// The per-body lane buffers of CRBA for one lane width, and the block's mass matrices.
@@ -229,7 +230,8 @@ pub(crate) fn crba<const L: usize>(
             if b.parent != 0 {
                 // As `JointModel::inertia_to_parent`.
                 let x = &bufs.parent_from_body[i];
-                let rotated = if axis.is_some() {
+                let general = matches!(data.placement_rot[i], RotationForm::General(_));
+                let rotated = if axis.is_some() && !general {
                     ic.rotated(&bufs.joint_rot[i])
                         .rotated(&LRotation::splat(&data.placement_rot[i]))
                 } else {

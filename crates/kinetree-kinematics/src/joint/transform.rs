@@ -194,8 +194,8 @@ impl JointModel {
     /// An inertia `y` about the child frame's origin, expressed about the parent frame's for
     /// `parent_from_child = x` as factored by [`JointModel::placed_transform_factored`]
     /// (`joint`), with `placement` the form of the placement rotation: the rotations are applied
-    /// in their cheap forms. For a joint that is not axis-aligned revolute or prismatic the
-    /// rotation of `x` is used whole.
+    /// in their cheap forms. For a joint that is not axis-aligned revolute or prismatic, or a
+    /// general placement rotation, the rotation of `x` is used whole.
     #[inline(always)]
     #[must_use]
     pub fn inertia_to_parent(
@@ -205,11 +205,13 @@ impl JointModel {
         placement: &RotationForm,
         x: &Se3,
     ) -> OriginInertia {
-        let rotated = if self.axis_index().is_some() {
-            y.rotated(&joint.form()).rotated(placement)
-        } else {
-            y.rotated(&RotationForm::General(x.rotation))
-        };
+        // A general placement rotation costs as much as the whole rotation of `x`: one product.
+        let rotated =
+            if self.axis_index().is_some() && !matches!(placement, RotationForm::General(_)) {
+                y.rotated(&joint.form()).rotated(placement)
+            } else {
+                y.rotated(&RotationForm::General(x.rotation))
+            };
         rotated.translated(x.translation)
     }
 
