@@ -105,6 +105,7 @@ fn place<const L: usize>(
 /// for a finite `x` and NaN for an infinity or NaN. Sums of probes stay 0 only when every
 /// probed number is finite.
 #[inline(always)]
+#[allow(clippy::eq_op, reason = "`x - x` is the probe itself")]
 fn non_finite<const L: usize>(t: &LVec3<L>) -> Lanes<L> {
     (t.x - t.x) + (t.y - t.y) + (t.z - t.z)
 }
@@ -143,7 +144,7 @@ pub(crate) fn forward_kinematics<const L: usize>(
             } else {
                 bufs.world_from_body[b].mul_const(body_from_link)
             };
-            probe = probe + non_finite(&x.translation);
+            probe += non_finite(&x.translation);
             bufs.world_from_link[l] = x;
             for k in 0..count {
                 links[(start + k) * nl + l] = x.lane(k);
@@ -229,7 +230,7 @@ pub(crate) fn frame_jacobian<const L: usize>(
         while i != 0 {
             let b = &bodies[i];
             let x = &bufs.world_from_body[i];
-            probe = probe + non_finite(&x.translation);
+            probe += non_finite(&x.translation);
             let jm = &shape.joint_models[i];
             let axis = jm.axis_index();
             let column = |k: usize| match axis {
