@@ -60,6 +60,22 @@ pub(crate) fn write_se3(x: &Se3, out: &mut [f64]) {
     out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
 }
 
+/// Writes the placements of `links` (every link when `None`) among the placements of all links
+/// `world_from_link`, as consecutive row-major 4 x 4 matrices.
+fn write_links(world_from_link: &[Se3], links: Option<&[usize]>, out: &mut [f64]) {
+    let rows = out.chunks_exact_mut(16);
+    match links {
+        None => world_from_link
+            .iter()
+            .zip(rows)
+            .for_each(|(x, o)| write_se3(x, o)),
+        Some(links) => links
+            .iter()
+            .zip(rows)
+            .for_each(|(&l, o)| write_se3(&world_from_link[l], o)),
+    }
+}
+
 /// Writes Jacobian columns as a row-major 6 x nv matrix (rows linear, then angular).
 pub(crate) fn write_columns(columns: &[Motion], out: &mut [f64]) {
     let nv = columns.len();
@@ -144,8 +160,9 @@ impl PyModel {
 
 #[pymethods]
 impl PyModel {
-    /// World pose of every link as 4 x 4 homogeneous matrices, in ``link_names`` order:
-    /// shape ``(nlinks, 4, 4)``, or ``(N, nlinks, 4, 4)`` for ``q`` of shape ``(N, nq)``.
+    /// World pose of every link as 4 x 4 homogeneous matrices, in ``link_names`` order (a
+    /// composite joint's virtual links left out): shape ``(nlinks, 4, 4)``, or
+    /// ``(N, nlinks, 4, 4)`` for ``q`` of shape ``(N, nq)``.
     ///
     /// ``out``, when given, is a C-contiguous, writeable float64 array of that shape: the poses
     /// are written into it and it is returned (no new array is made).
@@ -166,12 +183,12 @@ impl PyModel {
         let f = Family::Kinematics;
         let q = self.q(q, f)?;
         let nl = self.model.links().len();
+        let links = self.user_links.as_deref();
+        let nu = links.map_or(nl, <[usize]>::len);
         let one = |d: &mut DynamicsData, x: &[&[f64]], out: &mut [f64]| {
             let k = d.kinematics_mut();
             forward_kinematics(&self.model, k, x[0])?;
-            for (x, o) in k.world_from_link().iter().zip(out.chunks_exact_mut(16)) {
-                write_se3(x, o);
-            }
+            write_links(k.world_from_link(), links, out);
             Ok(())
         };
         let nq = self.model.nq();
@@ -179,7 +196,7 @@ impl PyModel {
             py,
             self,
             &[&q],
-            &[nl, 4, 4],
+            &[nu, 4, 4],
             out,
             f,
             one,
@@ -197,9 +214,11 @@ impl PyModel {
                         None,
                     )
                     .map_err(|e| shifted(in_block(e.into()), first))?;
-                    let rows = &mut out[first * nl * 16..last * nl * 16];
-                    for (x, o) in poses.iter().zip(rows.chunks_exact_mut(16)) {
-                        write_se3(x, o);
+                    let rows = &mut out[first * nu * 16..last * nu * 16];
+                    // (`max(1)`: a model has a root link, but a chunk size of 0 would panic.)
+                    let each = rows.chunks_exact_mut((nu * 16).max(1));
+                    for (x, o) in poses.chunks_exact(nl.max(1)).zip(each) {
+                        write_links(x, links, o);
                     }
                 }
                 Ok(())

@@ -52,11 +52,17 @@ pub(crate) struct PyModel {
     pub(crate) dynamics_batch_pool: Pool<DynamicsBatch>,
     /// Links and frames looked up by name (`frame_jacobian`, `frame_placement`).
     pub(crate) frame_cache: FrameCache,
+    /// The links users see (indices into the model's links), in depth-first order: all but the
+    /// massless virtual links inside composite joints. `None` when there are none of those.
+    pub(crate) user_links: Option<Vec<usize>>,
 }
 
 impl PyModel {
     pub(crate) fn new(model: Model, source: Source) -> Self {
+        let nl = model.links().len();
+        let user: Vec<usize> = (0..nl).filter(|&l| !model.is_virtual_link(l)).collect();
         Self {
+            user_links: (user.len() < nl).then_some(user),
             model: Arc::new(model),
             source,
             dynamics_pool: Pool::default(),
@@ -64,6 +70,14 @@ impl PyModel {
             kinematics_batch_pool: Pool::default(),
             dynamics_batch_pool: Pool::default(),
             frame_cache: FrameCache::default(),
+        }
+    }
+
+    /// The links users see (see [`PyModel::user_links`]), as indices into the model's links.
+    pub(crate) fn links(&self) -> Vec<usize> {
+        match &self.user_links {
+            Some(user) => user.clone(),
+            None => (0..self.model.links().len()).collect(),
         }
     }
 
@@ -282,7 +296,7 @@ impl PyModel {
             self.model.name(),
             self.model.nq(),
             self.model.nv(),
-            self.model.links().len()
+            self.links().len()
         )
     }
 
@@ -304,10 +318,11 @@ impl PyModel {
         self.model.nv()
     }
 
-    /// Number of links (the first axis of ``link_placements``).
+    /// Number of links (the first axis of ``link_placements``; a composite joint's virtual
+    /// links are not counted).
     #[getter]
     fn nlinks(&self) -> usize {
-        self.model.links().len()
+        self.links().len()
     }
 
     /// ``"fixed"`` or ``"floating"``: how the root link is attached to the world.
@@ -359,13 +374,18 @@ impl PyModel {
             .collect()
     }
 
-    /// Names of all links, in the order of ``link_placements``.
+    /// Names of the links, in the order of ``link_placements``: the model's links, without the
+    /// massless virtual links kinetree adds inside a composite joint.
     ///
     /// >>> panda.link_names[:2]
     /// ['panda_link0', 'panda_link1']
     #[getter]
     fn link_names(&self) -> Vec<String> {
-        self.model.links().iter().map(|l| l.name.clone()).collect()
+        let links = self.model.links();
+        self.links()
+            .into_iter()
+            .map(|l| links[l].name.clone())
+            .collect()
     }
 
     /// Names of the named frames (besides links), in the order of ``frame_placements``.

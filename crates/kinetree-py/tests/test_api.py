@@ -232,6 +232,48 @@ def test_a_composite_joint_is_one_joint():
     np.testing.assert_allclose(pose[2, 0], -np.sin(0.3) * np.cos(-0.2), atol=1e-15)
 
 
+LEG = """{"links": [{"name": "pelvis"}, {"name": "thigh",
+    "inertial": {"mass": 1.0, "inertia": {"ixx": 0.01, "iyy": 0.01, "izz": 0.01}}},
+    {"name": "shin", "inertial": {"mass": 0.5, "inertia": {"ixx": 0.01, "iyy": 0.01, "izz": 0.01}}}],
+  "joints": [{"name": "hip", "type": "composite", "parent": "pelvis", "child": "thigh",
+    "factors": [{"param": "tx", "value": 0.1}, {"param": "ry"}, {"param": "rz"}, {"param": "tz", "value": -0.2}]},
+    {"name": "knee", "type": "revolute", "parent": "thigh", "child": "shin", "axis": [0, 1, 0],
+     "origin": {"xyz": [0, 0, -0.4]}, "limits": {"lower": -2, "upper": 2, "effort": 10, "velocity": 5}}]}"""
+
+
+def test_link_lists_leave_out_a_composite_joints_virtual_links():
+    """The URDF/JSON author's links only: ``link_names``, ``nlinks`` and ``link_placements`` (one
+    state, stacks run inline and in parallel, ``out=``) skip the massless links a composite joint
+    is expanded with, and each pose is that link's ``frame_placement``."""
+    leg = kinetree.Model.from_json(LEG)
+    assert leg.link_names == ["pelvis", "thigh", "shin"]
+    assert leg.nlinks == 3
+    assert "3 links" in repr(leg)
+    assert leg.joint_names == ["hip", "knee"]
+    q = leg.q_from_dict({"hip": [0.3, -0.2], "knee": 0.7})
+    poses = leg.link_placements(q)
+    assert poses.shape == (3, 4, 4)
+    for name, pose in zip(leg.link_names, poses):
+        assert np.array_equal(pose, leg.frame_placement(q, name)), name
+    # the thigh hangs at tx = 0.1 then Ry(0.3) Rz(-0.2), then tz = -0.2 along the rotated z
+    rotation = poses[1, :3, :3]
+    np.testing.assert_allclose(poses[1, :3, 3], [0.1, 0, 0] + rotation @ [0, 0, -0.2], atol=1e-15)
+    for n in (3, 64):
+        Q = leg.random_configuration(n, seed=n)
+        stacked = leg.link_placements(Q)
+        assert stacked.shape == (n, 3, 4, 4)
+        for i in range(n):
+            assert np.array_equal(stacked[i], leg.link_placements(Q[i])), (n, i)
+        out = np.full((n, 3, 4, 4), np.nan)
+        assert leg.link_placements(Q, out=out) is out
+        assert np.array_equal(out, stacked)
+    out = np.full((3, 4, 4), np.nan)
+    assert leg.link_placements(q, out=out) is out
+    assert np.array_equal(out, poses)
+    with pytest.raises(kinetree.KinematicsError, match=r"shape \(3, 4, 4\)"):
+        leg.link_placements(q, out=np.zeros((5, 4, 4)))
+
+
 def test_frame_names_are_found_whatever_string_object_carries_them(panda):
     # frame_jacobian and frame_placement cache names by string object: equal strings made at run
     # time, more names than the cache holds, and unknown names all behave as the first call.
