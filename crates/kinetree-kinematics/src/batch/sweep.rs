@@ -101,13 +101,13 @@ fn place<const L: usize>(
     };
 }
 
-/// NaN in each lane where a coordinate of `t` is not finite, 0 elsewhere: `x - x` is exactly 0
-/// for a finite `x` and NaN for an infinity or NaN. Sums of probes stay 0 only when every
-/// probed number is finite.
+/// NaN in each lane where a coordinate of `t` is not finite, ±0 elsewhere: `0 · x` is ±0 for a
+/// finite `x` and NaN for an infinity or NaN. Sums of probes stay 0 only when every probed
+/// number is finite.
 #[inline(always)]
 #[allow(clippy::eq_op, reason = "`x - x` is the probe itself")]
 fn non_finite<const L: usize>(t: &LVec3<L>) -> Lanes<L> {
-    (t.x - t.x) + (t.y - t.y) + (t.z - t.z)
+    t.x * 0.0 + t.y * 0.0 + t.z * 0.0
 }
 
 /// The state of the first of the `count` lanes whose probe (a sum of [`non_finite`]) is not 0,
@@ -249,7 +249,7 @@ pub(crate) fn frame_jacobian<const L: usize>(
             i = b.parent;
         }
         for (c, col) in bufs.columns.iter().enumerate() {
-            probe = probe + non_finite(&col.linear) + non_finite(&col.angular);
+            probe += non_finite(&col.linear) + non_finite(&col.angular);
             for k in 0..count {
                 out[(start + k) * nv + c] = col.lane(k);
             }
