@@ -1,6 +1,8 @@
 //! The batched algorithms on every core: the entry points of
-//! [`kinematics::batch`](crate::kinematics::batch) and [`dynamics::batch`](crate::dynamics::batch)
-//! with the same signatures, splitting the `N` states over rayon's thread pool.
+//! [`kinematics::batch`](crate::kinematics::batch), [`dynamics::batch`](crate::dynamics::batch)
+//! (feature `dynamics`) and [`collision::batch`](crate::collision::batch) (feature `collision`:
+//! [`distances_batch`] and [`min_distance_batch`]) with the same signatures, splitting the `N`
+//! states over rayon's thread pool.
 //!
 //! A [`Parallel`] holds one batch workspace per thread of the pool it is created in
 //! ([`rayon::current_num_threads`]); each thread evaluates a contiguous block of states with the

@@ -8,7 +8,9 @@
 //! `{"model", "nq", "nv", "batch", "threads", "simd", "ns_per_state": {"fk": {"single",
 //! "batched", "parallel"}, …}}` with the keys `fk`, `fk_frames`, `frame_jacobian`, `rnea`,
 //! `aba`, `crba`, and `collision_distances` (all-pairs signed distances, placements included)
-//! for models with collision geometry, timed on a tenth of `--calls` states.
+//! for models with collision geometry, timed on as many states as `--calls` states of 300 ns
+//! would take (mesh pairs cost milliseconds a state), in batches cut down to that many states
+//! (at least 16).
 
 use anyhow::Result;
 use kinetree::dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
@@ -295,15 +297,27 @@ pub(crate) fn run(args: &super::bench::Args, model: &Model, n: usize) -> Result<
 }
 
 /// The batched all-pairs signed distances beside the one-state query (placements included), on
-/// a tenth of the states of the other rows.
+/// as many states as `s.states` states of 300 ns would take, from a first estimate of the
+/// one-state time (a model with meshes costs milliseconds a state), in batches no larger.
 fn collision_row(s: &Setup<'_>, cmodel: &kinetree::collision::CollisionModel) -> Row {
     use kinetree::collision::batch::{CollisionBatch, distances_batch};
     use kinetree::collision::{CollisionData, compute_distances};
     let (model, n, nq) = (s.model, s.n, s.model.nq());
     let q = &s.q[..];
-    let t = |f: &mut dyn FnMut()| time(n, (s.states / 10).max(1), s.reps, f);
     let mut kinematics = KinematicsData::new(model);
     let mut data = CollisionData::new(cmodel);
+    let probe = n.min(16);
+    let start = Instant::now();
+    for k in 0..probe {
+        let _ = data.compute_placements(model, cmodel, &mut kinematics, &q[k * nq..(k + 1) * nq]);
+        let _ = black_box(compute_distances(cmodel, &mut data).map(|d| d.len()));
+    }
+    let ns = (start.elapsed().as_secs_f64() * 1e9 / probe as f64).max(1.0);
+    let states = ((s.states as f64 * 300.0 / ns) as usize).max(1);
+    // A batch larger than that budget is cut down to it (at least 16 states, two blocks of lanes).
+    let n = n.min(states.max(16));
+    let q = &q[..n * nq];
+    let t = |f: &mut dyn FnMut()| time(n, states, s.reps, f);
     let mut one = CollisionBatch::new(model, cmodel);
     let mut pool = Parallel::from_fn(rayon::current_num_threads(), |_| {
         CollisionBatch::new(model, cmodel)
