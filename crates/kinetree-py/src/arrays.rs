@@ -1,5 +1,6 @@
 //! numpy in and out: checked inputs ([`States`]) and the one map over stacked states
-//! ([`map_states`], wrapped by [`run`] and [`run_parts`]).
+//! ([`map_states`], wrapped by [`run`] and [`run_blocks`]; calls with several results per state
+//! use [`crate::parts`]).
 //!
 //! Every per-state call takes one state (`q` of shape `(nq,)`) or a stack (`(N, nq)`). One state
 //! runs directly, with a workspace from the model's [`Pool`]; a stack runs in parallel (rayon)
@@ -10,7 +11,7 @@
 use crate::errors::{Family, family_of, to_py};
 use crate::model::PyModel;
 use crate::scratch::Scratch;
-use kinetree::dynamics::{DerivativesData, DynamicsData};
+use kinetree::dynamics::DynamicsData;
 use numpy::ndarray::{ArrayD, ArrayViewD, IxDyn};
 use numpy::{
     AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods,
@@ -276,7 +277,7 @@ pub(crate) fn in_block(error: kinetree::Error) -> Box<(usize, kinetree::Error)> 
 }
 
 /// Inputs of states `first..last` (all inputs stacked alike): one slice per input.
-fn block_of<'a>(inputs: &[&'a States], first: usize, last: usize) -> [&'a [f64]; 4] {
+pub(crate) fn block_of<'a>(inputs: &[&'a States], first: usize, last: usize) -> [&'a [f64]; 4] {
     let mut s: [&[f64]; 4] = [&[]; 4];
     for (x, input) in s.iter_mut().zip(inputs) {
         *x = &input.values[first * input.width..last * input.width];
@@ -286,14 +287,14 @@ fn block_of<'a>(inputs: &[&'a States], first: usize, last: usize) -> [&'a [f64];
 
 /// Blocks per worker thread of a stacked call: enough for the workers to even out when one is
 /// slowed down (the machine is shared), few enough that taking a workspace per block is free.
-const BLOCKS_PER_THREAD: usize = 8;
+pub(crate) const BLOCKS_PER_THREAD: usize = 8;
 
 /// States per block are a multiple of this, so that the batched kernels fill whole SIMD lanes.
 const LANES: usize = 8;
 
 /// Stacks of at most this many states run on the calling thread with the GIL held: one SIMD
 /// block, a few microseconds at most, less than handing it to the workers costs.
-const INLINE_STATES: usize = LANES;
+pub(crate) const INLINE_STATES: usize = LANES;
 
 /// Runs the block computation `f` on the one state of `inputs`, here (the GIL held), with a
 /// workspace of the model's pool.
@@ -372,7 +373,7 @@ where
 
 /// The Python error of a failed state of a stack, naming the state.
 #[allow(clippy::boxed_local, reason = "the error as the blocks return it")]
-fn stack_error(failed: Box<(usize, kinetree::Error)>) -> PyErr {
+pub(crate) fn stack_error(failed: Box<(usize, kinetree::Error)>) -> PyErr {
     let (i, e) = &*failed;
     family_of(e).err(format!("state {i}: {e}"))
 }
@@ -610,62 +611,6 @@ where
             .0
             .into_any(),
     )
-}
-
-/// [`map_states`] for calls with `P` results of `nv x nv` each (the analytic derivatives):
-/// `f(data, state)` returns the `P` matrices (row-major slices of the workspace); they come back
-/// as `P` arrays of shape `(nv, nv)`, or `(N, nv, nv)` for a stack.
-pub(crate) fn run_parts<'py, const P: usize, F>(
-    py: Python<'py>,
-    model: &PyModel,
-    inputs: &[&States],
-    family: Family,
-    f: F,
-) -> PyResult<[Bound<'py, PyArrayDyn<f64>>; P]>
-where
-    F: for<'d> Fn(&'d mut DerivativesData, &[&[f64]]) -> Result<[&'d [f64]; P], kinetree::Error>
-        + Sync,
-{
-    let nv = model.model.nv();
-    let size = nv * nv;
-    let f = each_state(
-        move |d: &mut DerivativesData, x: &[&[f64]], out: &mut [f64]| {
-            for (m, o) in f(d, x)?.iter().zip(out.chunks_exact_mut(size.max(1))) {
-                o.copy_from_slice(m);
-            }
-            Ok(())
-        },
-    );
-    let parts: Vec<_> = if batch_count(inputs, family)?.is_none() {
-        let mut out = vec![0.0; P * size];
-        one_state(model, inputs, &mut out, &f)?;
-        (0..P)
-            .map(|p| Ok(view(&[nv, nv], &out[p * size..(p + 1) * size])?.to_pyarray(py)))
-            .collect::<PyResult<_>>()?
-    } else {
-        let one = |values: &mut [f64]| one_state(model, inputs, values, &f);
-        let (all, count) = map_states(py, model, inputs, &[P, nv, nv], None, family, one, &f)?;
-        let n = count.unwrap_or(1);
-        let readonly = all.readonly();
-        let values = readonly.as_slice()?;
-        (0..P)
-            .map(|p| {
-                let part = PyArrayDyn::<f64>::zeros(py, IxDyn(&[n, nv, nv]), false);
-                {
-                    let mut writable = part.readwrite();
-                    let dst = writable.as_slice_mut()?;
-                    for (i, d) in dst.chunks_exact_mut(size.max(1)).enumerate() {
-                        let start = (i * P + p) * size;
-                        d.copy_from_slice(&values[start..start + size]);
-                    }
-                }
-                Ok(part)
-            })
-            .collect::<PyResult<_>>()?
-    };
-    parts
-        .try_into()
-        .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("internal: wrong number of results"))
 }
 
 /// A numpy array of `shape` owning `values` (row-major).

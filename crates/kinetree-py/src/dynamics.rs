@@ -3,10 +3,11 @@
 //! damping, friction and armature left out), as Pinocchio computes them.
 
 use crate::arrays::{
-    ArrayPair, States, finite, in_block, reserve, run, run_blocks, run_parts, states, to_numpy,
+    ArrayPair, States, finite, in_block, reserve, run, run_blocks, states, to_numpy,
 };
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
+use crate::parts::run_parts;
 use crate::scratch::new_data;
 use kinetree::dynamics::batch::{aba_batch, crba_batch, rnea_batch};
 use kinetree::dynamics::{

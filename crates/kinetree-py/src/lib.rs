@@ -6,6 +6,7 @@
 //!   [`kinetree::Error`];
 //! - `arrays`: numpy inputs (shape, dtype and finiteness checks) and the batch runner, which
 //!   computes stacked states in parallel with the GIL released;
+//! - `parts`: calls with several matrices per state (the derivatives), each its own array;
 //! - `scratch`: the workspaces calls reuse (pooled per model);
 //! - `model`: the `Model` class (loading, sizes, names, limits, configuration-space helpers,
 //!   pickling);
@@ -32,6 +33,7 @@ mod errors;
 mod ik;
 mod kinematics;
 mod model;
+mod parts;
 mod scratch;
 mod workspace;
 

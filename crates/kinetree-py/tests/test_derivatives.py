@@ -89,9 +89,9 @@ def test_derivatives_match_finite_differences(talos):
 
 
 @pytest.mark.parametrize("method", ["rnea_derivatives", "gravity_derivatives", "aba_derivatives"])
-def test_stacked_derivatives_equal_one_by_one(method, talos):
+@pytest.mark.parametrize("n", [0, 3, 16])  # empty, a stack run inline, a parallel stack
+def test_stacked_derivatives_equal_one_by_one(method, n, talos):
     model = talos
-    n = 16
     rng = np.random.default_rng(5)
     q = model.random_configuration(n, seed=2)
     v, a = rng.uniform(-1, 1, (n, model.nv)), rng.uniform(-1, 1, (n, model.nv))
@@ -114,3 +114,16 @@ def test_derivative_errors_name_the_input(panda):
         panda.aba_derivatives(panda.neutral(), np.zeros(9), np.full(9, np.nan))
     with pytest.raises(kinetree.DynamicsError, match="stack"):
         panda.aba_derivatives(np.stack([panda.neutral()] * 2), np.zeros(9), np.zeros((2, 9)))
+
+
+@pytest.mark.parametrize("n", [12, 40])
+def test_a_failing_state_of_a_stack_is_named(n, panda):
+    q = panda.random_configuration(n, seed=1)
+    v, a = np.zeros((n, 9)), np.zeros((n, 9))
+    v[11] = 1e200  # finite, but tau overflows
+    for method in ("rnea_derivatives", "aba_derivatives"):
+        with pytest.raises(kinetree.DynamicsError, match=r"^state 11: (tau|ddq) overflowed at joint .panda_joint1."):
+            getattr(panda, method)(q, v, a)
+    v[11] = 0.0
+    for part in panda.rnea_derivatives(q, v, a):
+        assert part.shape == (n, 9, 9) and np.isfinite(part).all()
