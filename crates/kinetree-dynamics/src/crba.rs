@@ -51,12 +51,17 @@ pub fn crba<'d>(
     q: &[f64],
 ) -> Result<&'d [f64], DynamicsError> {
     check_inputs(model, data, q, None, None)?;
-    compute(model, data, q);
-    check_mass_matrix(model, data)?;
+    let probe = compute(model, data, q);
+    // Every entry the sweep writes went into `probe` (the others stay 0): a finite probe
+    // proves the matrix finite without reading it again.
+    if !probe.is_finite() {
+        check_mass_matrix(model, data)?;
+    }
     Ok(&data.mass_matrix)
 }
 
-/// The output check of [`crba`]: every entry of the mass matrix is finite. The entries are
+/// The output check of [`crba`] when the sweep's probe is not finite: every entry of the mass
+/// matrix is finite. The entries are
 /// summed in eight independent lanes (a non-finite entry makes the sum non-finite), which is a
 /// few vector additions per row; only a sum that is not finite (a bad entry, or finite entries
 /// whose sum overflows) searches for the entry to name.
@@ -78,13 +83,15 @@ fn check_mass_matrix(model: &Model, data: &DynamicsData) -> Result<(), DynamicsE
     crate::error::check_output(model, data, "mass matrix", m)
 }
 
-/// The CRBA sweeps (inputs already checked).
+/// The CRBA sweeps (inputs already checked). Returns the sum of every entry written once
+/// (each lower-triangle entry and the diagonal, armature included), the output check's probe:
+/// it is finite exactly when those entries are, unless finite entries overflow the sum.
 ///
 /// Body-local composite inertias (Pinocchio's `Convention::LOCAL`); each body's force columns
 /// `Icᵢ·Sᵢ` are carried up to every ancestor, and each composite inertia moves to its parent
 /// with the joint and placement rotations in their cheap forms (a few multiplications for
 /// axis-aligned joints and placements).
-pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
+pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 {
     let bodies = model.bodies();
     let nv = data.nv;
     let kin = data.kinematics.body_buffers_mut();
@@ -105,6 +112,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
     let m = &mut data.mass_matrix;
     let mut f = [Force::ZERO; 6];
     let mut col = [0.0; 6];
+    let mut probe = 0.0;
     for i in (1..bodies.len()).rev() {
         let b = &bodies[i];
         let (iv, ni) = (b.idx_v, b.nv);
@@ -120,6 +128,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                 for k in 0..ni {
                     jm.project_force(&f[k], &mut col[..ni]);
                     for l in k..ni {
+                        probe += col[l];
                         m[(iv + l) * nv + iv + k] = col[l];
                         m[(iv + k) * nv + iv + l] = col[l];
                     }
@@ -131,6 +140,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
             // The common case, one column: carry it up to every ancestor.
             let mut fk = f0;
             if let Some(d) = jm.project_axis(&fk) {
+                probe += d;
                 m[iv * nv + iv] = d;
             }
             let mut j = i;
@@ -144,6 +154,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                 let jv = bodies[j].idx_v;
                 match joint_models[j].project_axis(&fk) {
                     Some(x) => {
+                        probe += x;
                         m[jv * nv + iv] = x;
                         m[iv * nv + jv] = x;
                     }
@@ -157,6 +168,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                             joint_models[j].project_force(&fk, &mut col[..nj]);
                         }
                         for l in 0..nj {
+                            probe += col[l];
                             m[(jv + l) * nv + iv] = col[l];
                             m[iv * nv + jv + l] = col[l];
                         }
@@ -178,6 +190,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
                 for k in 0..ni {
                     joint_models[j].project_force(&f[k], &mut col[..nj]);
                     for l in 0..nj {
+                        probe += col[l];
                         m[(jv + l) * nv + iv + k] = col[l];
                         m[(iv + k) * nv + jv + l] = col[l];
                     }
@@ -197,14 +210,36 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) {
     if data.has_joint_terms {
         for k in 0..nv {
             m[k * nv + k] += data.armature[k];
+            probe += m[k * nv + k];
         }
     }
+    probe
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use kinetree_kinematics::model::RootJoint;
+
+    #[test]
+    fn finite_entries_whose_probe_overflows_are_accepted() {
+        // Two prismatic branches from the base, each carrying 1.5e308 kg: the diagonal is
+        // [1.5e308, 1.5e308], finite, though the sweep's probe (their sum) overflows.
+        let urdf = r#"<robot name="r"><link name="a"/>
+          <link name="b"><inertial><mass value="1.5e308"/>
+            <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+          <link name="c"><inertial><mass value="1.5e308"/>
+            <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+          <joint name="j1" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/>
+            <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+          <joint name="j2" type="prismatic"><parent link="a"/><child link="c"/><axis xyz="0 1 0"/>
+            <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+        </robot>"#;
+        let model = Model::from_urdf_str(urdf, RootJoint::Fixed).unwrap();
+        let mut data = DynamicsData::new(&model);
+        let m = crba(&model, &mut data, &[0.5, -0.5]).unwrap();
+        assert_eq!(m, &[1.5e308, 0.0, 0.0, 1.5e308]);
+    }
 
     #[test]
     fn the_mass_matrix_check_tells_an_overflowing_sum_from_a_bad_entry() {
