@@ -192,6 +192,7 @@ impl CollisionModel {
                 .collect(),
             disabled: Vec::new(),
             plan: crate::plan::PairPlan::default(),
+            distance_tolerance: crate::gjk::DEFAULT_TOL,
         };
         cmodel.rebuild_pairs();
         cmodel.disable_link_pairs(

@@ -138,6 +138,16 @@ pub enum CollisionError {
         /// Name of the second shape (or obstacle).
         shape_b: String,
     },
+    /// A distance tolerance (see
+    /// [`CollisionModel::set_distance_tolerance`](crate::CollisionModel::set_distance_tolerance))
+    /// that is not finite or is outside 1e-12 to 1e-3.
+    #[error(
+        "distance tolerance {value} is not a finite number between 1e-12 and 1e-3 (the default is 1e-8, coal's 1e-6)"
+    )]
+    InvalidTolerance {
+        /// The value given.
+        value: f64,
+    },
     /// parry cannot compute this query for this pair of shapes.
     #[error("parry does not support this query between '{shape_a}' and '{shape_b}'")]
     Unsupported {

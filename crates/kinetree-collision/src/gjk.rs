@@ -3,7 +3,7 @@
 //! Ericson's *Real-Time Collision Detection*) for separated shapes and an expanding polytope
 //! (EPA) with a relative stopping tolerance for overlapping ones. Parry's EPA runs to its
 //! 100-iteration cap on curved shapes such as cylinders; this one stops when the nearest face
-//! is within `REL_TOL` of the support point along its normal. Both report `None` in the rare
+//! is within the relative tolerance of the support point along its normal. Both report `None` in the rare
 //! cases they do not settle (touching, degenerate simplices), and the caller then runs parry's
 //! GJK and EPA.
 
@@ -11,10 +11,11 @@ use glam::{DMat3, DVec3};
 use parry3d_f64::math::Pose;
 use parry3d_f64::shape::SupportMap;
 
-/// Relative precision of the distance: iterations stop when the gap between the upper bound
-/// `|v|` and the lower bound `v·w / |v|` is below `REL_TOL · |v|` (1e-8 m for shapes a metre
-/// apart, a hundredth of the reference tolerance; coal's default GJK tolerance is 1e-6).
-const REL_TOL: f64 = 1e-8;
+/// Default relative precision of the distance: GJK stops when the gap between the upper bound
+/// `|v|` and the lower bound `v·w / |v|` is at most `tol · |v|` (1e-8 m for shapes a metre
+/// apart, a hundredth of the reference tolerance; coal's default GJK tolerance is 1e-6). See
+/// [`CollisionModel::set_distance_tolerance`](crate::CollisionModel::set_distance_tolerance).
+pub(crate) const DEFAULT_TOL: f64 = 1e-8;
 const MAX_ITERATIONS: usize = 64;
 
 #[derive(Clone, Copy)]
@@ -75,7 +76,7 @@ where
         let b = rot * g2.local_support_point(rot_t * -d) + t12;
         Vertex { w: a - b, a, b }
     };
-    match gjk(&support, dir) {
+    match gjk(&support, dir, epa.tol) {
         Outcome::Separated(local) => Some(local),
         Outcome::Enclosed(tetrahedron) => epa.penetration(&support, tetrahedron),
         Outcome::Unknown => None,
@@ -93,8 +94,9 @@ enum Outcome {
     Unknown,
 }
 
-/// Closest points of two separated shapes given the support function of their difference.
-fn gjk(support: &impl Fn(DVec3) -> Vertex, dir: DVec3) -> Outcome {
+/// Closest points of two separated shapes given the support function of their difference,
+/// to the relative tolerance `tol`.
+fn gjk(support: &impl Fn(DVec3) -> Vertex, dir: DVec3, tol: f64) -> Outcome {
     let mut simplex = [support(dir); 4];
     let mut n = 1;
     let mut lambda = [1.0, 0.0, 0.0, 0.0];
@@ -108,7 +110,7 @@ fn gjk(support: &impl Fn(DVec3) -> Vertex, dir: DVec3) -> Outcome {
         // Lower bound of the distance: v·w / |v|; stop when it meets the upper bound |v|.
         let gap = vv - v.dot(w.w);
         // A repeated vertex means no progress is possible either.
-        if gap <= REL_TOL * vv || simplex[..n].iter().any(|s| s.w == w.w) {
+        if gap <= tol * vv || simplex[..n].iter().any(|s| s.w == w.w) {
             return finish(&simplex[..n], &lambda[..n]);
         }
         simplex[n] = w;
@@ -117,13 +119,9 @@ fn gjk(support: &impl Fn(DVec3) -> Vertex, dir: DVec3) -> Outcome {
         };
         if region.point.length_squared() >= vv {
             // The new point did not bring the simplex closer: round-off in a nearly degenerate
-            // simplex. Keep the previous answer if it is nearly converged (its lower bound along
-            // `v` is within 1e-8 relative); parry's GJK takes over otherwise.
-            return if gap <= 1e-8 * vv {
-                finish(&simplex[..n], &lambda[..n])
-            } else {
-                Outcome::Unknown
-            };
+            // simplex. The previous answer is not within `tol` (it would have been returned
+            // above), so parry's GJK takes over.
+            return Outcome::Unknown;
         }
         // Compact in place: with the kept indices sorted, each source is at or after its slot.
         let mut kept = [
@@ -179,14 +177,28 @@ struct Face {
 }
 
 /// The expanding polytope algorithm (EPA) for the penetration depth, with buffers reused across
-/// calls. It stops at a relative gap of `REL_TOL` between the nearest face and the support
+/// calls. It stops at a relative gap of `tol` between the nearest face and the support
 /// point along its normal, instead of running to a fixed iteration cap as parry's does on
 /// curved shapes.
-#[derive(Clone, Default)]
+#[derive(Clone)]
 pub(crate) struct Polytope {
     vertices: Vec<Vertex>,
     faces: Vec<Face>,
     horizon: Vec<(u32, u32)>,
+    /// The relative tolerance of GJK and EPA (see [`DEFAULT_TOL`]); the queries set it from
+    /// the collision model.
+    pub(crate) tol: f64,
+}
+
+impl Default for Polytope {
+    fn default() -> Self {
+        Self {
+            vertices: Vec::new(),
+            faces: Vec::new(),
+            horizon: Vec::new(),
+            tol: DEFAULT_TOL,
+        }
+    }
 }
 
 impl Polytope {
@@ -226,7 +238,7 @@ impl Polytope {
                 .min_by(|x, y| x.distance.total_cmp(&y.distance))?;
             let w = support(nearest.normal);
             let upper = nearest.normal.dot(w.w);
-            if upper - nearest.distance <= REL_TOL * nearest.distance.max(1e-3) {
+            if upper - nearest.distance <= self.tol * nearest.distance.max(1e-3) {
                 return self.witness(&nearest);
             }
             let new = u32::try_from(self.vertices.len()).ok()?;
@@ -449,14 +461,14 @@ mod tests {
         let t = theirs.unwrap_or_else(|| panic!("{k}: ours {d} but parry finds an overlap"));
         // Both are distances between points of the shapes, so upper bounds of the true
         // distance, each within its relative tolerance (parry: 4.7e-8, or a stall).
-        assert!(d <= t + 2.0 * REL_TOL * t, "{k}: {d} vs {t}");
+        assert!(d <= t + 2.0 * DEFAULT_TOL * t, "{k}: {d} vs {t}");
         assert!(((p2 - p1).length() - d).abs() < 1e-12);
         // The plane normal to `n` separates the shapes by nearly `d`: a lower bound.
         let a = g1.local_support_point(n);
         let b = pos12 * g2.local_support_point(pos12.rotation.inverse() * -n);
         let lower = n.dot(b - a);
         assert!(
-            d - lower < 2.0 * REL_TOL * d + 1e-12 && lower <= d + 1e-12,
+            d - lower < 2.0 * DEFAULT_TOL * d + 1e-12 && lower <= d + 1e-12,
             "{k}: {d} vs lower bound {lower}"
         );
         true

@@ -148,6 +148,8 @@ pub struct CollisionModel {
     pub(crate) disabled: Vec<(usize, usize)>,
     /// The pairs grouped by shape kinds for the distance query.
     pub(crate) plan: crate::plan::PairPlan,
+    /// Relative tolerance of the distance queries' GJK/EPA.
+    pub(crate) distance_tolerance: f64,
 }
 
 impl CollisionModel {
@@ -197,6 +199,51 @@ impl CollisionModel {
     #[must_use]
     pub fn disabled_link_pairs(&self) -> &[(usize, usize)] {
         &self.disabled
+    }
+
+    /// The range [`set_distance_tolerance`](Self::set_distance_tolerance) accepts.
+    pub const DISTANCE_TOLERANCE_RANGE: core::ops::RangeInclusive<f64> = 1e-12..=1e-3;
+
+    /// The relative tolerance of the distance queries (1e-8 unless
+    /// [`set_distance_tolerance`](Self::set_distance_tolerance) changed it).
+    #[must_use]
+    pub fn distance_tolerance(&self) -> f64 {
+        self.distance_tolerance
+    }
+
+    /// Sets the relative tolerance `tol` at which the distance queries
+    /// ([`compute_distances`](crate::compute_distances),
+    /// [`compute_world_distances`](crate::compute_world_distances) and those built on them) stop
+    /// the crate's GJK and EPA. The default is 1e-8; coal's (Pinocchio's) default is 1e-6,
+    /// which is faster and less precise.
+    ///
+    /// What it bounds, for a reported signed distance `d` and the true one `d*`:
+    /// - Separated pairs: GJK stops when the gap between its upper bound of the distance (the
+    ///   length of the point `v` of its simplex nearest the origin) and its lower bound
+    ///   (`v·w / |v|`, with `w` the support point of the shapes' difference along `-v`) is at
+    ///   most `tol · |v|`, and reports the upper bound: `d - tol · d <= d* <= d`.
+    /// - Overlapping pairs: EPA stops when the support point along the nearest face's normal is
+    ///   within `tol · max(depth, 1e-3 m)` of that face, and reports the face's distance, a lower
+    ///   bound of the depth: `d - tol · max(|d|, 1e-3 m) <= d* <= d`.
+    ///
+    /// So in both cases `0 <= d - d* <= tol · max(|d|, 1e-3 m)`, up to round-off.
+    /// Pairs with a closed form (a sphere with any primitive, cylinders side by side) are exact
+    /// up to round-off whatever `tol`; in the rare configurations where the crate's
+    /// GJK/EPA do not settle (touching shapes, degenerate simplices), parry's GJK (relative
+    /// tolerance about 5e-8) and EPA take over and `tol` does not apply.
+    /// The collision queries ([`any_collision`](crate::any_collision) and the contact queries)
+    /// do not use it.
+    ///
+    /// # Errors
+    /// [`CollisionError::InvalidTolerance`](crate::CollisionError::InvalidTolerance) unless `tol`
+    /// is finite and within [`Self::DISTANCE_TOLERANCE_RANGE`] (1e-12 to 1e-3); the model is then
+    /// unchanged.
+    pub fn set_distance_tolerance(&mut self, tol: f64) -> Result<(), crate::CollisionError> {
+        if !Self::DISTANCE_TOLERANCE_RANGE.contains(&tol) {
+            return Err(crate::CollisionError::InvalidTolerance { value: tol });
+        }
+        self.distance_tolerance = tol;
+        Ok(())
     }
 
     /// Number of bodies of the model this collision model was built from.

@@ -209,6 +209,7 @@ pub fn compute_distances<'d>(
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
     data.check_model(cmodel)?;
+    data.scratch.polytope.tol = cmodel.distance_tolerance;
     if !distances_by_kind(cmodel, data) {
         // A pair failed (unsupported, or not finite): the loop in pair order names the first.
         for k in 0..cmodel.pairs.len() {
@@ -315,6 +316,7 @@ pub fn compute_world_distances<'d>(
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
     data.check_model(cmodel)?;
+    data.scratch.polytope.tol = cmodel.distance_tolerance;
     data.world_distances.clear();
     let world = &data.world_from_shape;
     for (a, s) in cmodel.shapes.iter().enumerate() {

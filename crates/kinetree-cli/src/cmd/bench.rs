@@ -6,8 +6,10 @@
 //! printed. With `--json` the output is
 //! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians",
 //! "rnea", "nle", "crba", "aba", "minv", "rnea_derivatives", "aba_derivatives", "collision_any",
-//! "collision_distances"}}` (the collision keys
-//! only for models with collision geometry; meshes are looked up next to the model file, then
+//! "collision_distances", "collision_distances_tol1e-6"}}` (the collision keys
+//! only for models with collision geometry; the last is the same all-pairs distance call at
+//! coal's default distance tolerance of 1e-6 instead of kinetree's 1e-8, see
+//! `CollisionModel::set_distance_tolerance`; meshes are looked up next to the model file, then
 //! in the `--mesh-path` directories, and skipped when missing); the keys stay stable so scripts can compare runs.
 //! `"pinocchio_ns_per_call"` repeats the like-for-like timings under the names of Pinocchio's
 //! anchor benchmark (`fk+frames`, `jacobians`, `rnea`, `nle`, `crba`, `aba`, `minverse`,
@@ -303,11 +305,11 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let options = kinetree::collision::CollisionOptions::default()
         .with_model_file(&args.model, &args.mesh_paths)
         .skip_missing_meshes();
-    if let Ok(cmodel) = kinetree::collision::CollisionModel::from_model(&model, &options)
+    if let Ok(mut cmodel) = kinetree::collision::CollisionModel::from_model(&model, &options)
         && !cmodel.pairs().is_empty()
     {
         let mut cd = kinetree::collision::CollisionData::new(&cmodel);
-        timings.bar.inc_length(2);
+        timings.bar.inc_length(3);
         timings.time("collision_any", (calls / 10).max(1), reps, |i| {
             let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
             let _ = black_box(kinetree::collision::any_collision(&cmodel, &mut cd));
@@ -318,6 +320,19 @@ pub(crate) fn run(args: &Args) -> Result<()> {
                 kinetree::collision::compute_distances(&cmodel, &mut cd).map(|d| d.len()),
             );
         });
+        // The same call at coal's default tolerance, for a like-for-like comparison.
+        cmodel.set_distance_tolerance(1e-6)?;
+        timings.time(
+            "collision_distances_tol1e-6",
+            (calls / 10).max(1),
+            reps,
+            |i| {
+                let _ = cd.compute_placements(&model, &cmodel, &mut data, black_box(q(i)));
+                let _ = black_box(
+                    kinetree::collision::compute_distances(&cmodel, &mut cd).map(|d| d.len()),
+                );
+            },
+        );
     }
 
     timings.bar.finish_and_clear();

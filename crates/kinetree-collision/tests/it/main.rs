@@ -8,4 +8,5 @@ mod mesh_primitives;
 mod meshes;
 mod reference;
 mod srdf;
+mod tolerance;
 mod world;
