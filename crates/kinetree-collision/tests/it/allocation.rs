@@ -1,7 +1,7 @@
 //! The queries allocate nothing once the data exists: a counting global allocator for this test
 //! binary (`kinetree-test-support`) counts allocations made by the current thread.
 
-use crate::common::{panda, q_of};
+use crate::common::{panda, sample_states, stacked_samples};
 use kinetree_collision::batch::{CollisionBatch, distances_batch, min_distance_batch};
 use kinetree_collision::kinematics::KinematicsData;
 use kinetree_collision::kinematics::model::Geometry;
@@ -33,12 +33,7 @@ fn queries_do_not_allocate() {
             &options,
         )
         .unwrap();
-    let samples: Vec<_> = reference["samples"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|s| q_of(&model, s))
-        .collect();
+    let samples = sample_states(&reference, &model);
     let mut run = |data: &mut CollisionData| {
         for (k, q) in samples.iter().enumerate() {
             data.compute_placements(&model, &cmodel, &mut kinematics, q)
@@ -63,12 +58,7 @@ fn queries_do_not_allocate() {
 fn batched_queries_do_not_allocate() {
     let (reference, model) = panda();
     let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default()).unwrap();
-    let q: Vec<f64> = reference["samples"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .flat_map(|s| q_of(&model, s))
-        .collect();
+    let q: Vec<f64> = stacked_samples(&reference, &model);
     let n = q.len() / model.nq();
     let mut batch = CollisionBatch::new(&model, &cmodel);
     let mut distances = vec![0.0; n * cmodel.pairs().len()];

@@ -1,7 +1,7 @@
 //! The batched distances equal the one-state path, state by state, and bad batches are errors
 //! naming what is wrong.
 
-use crate::common::{panda, q_of};
+use crate::common::{panda, stacked_samples};
 use kinetree_collision::batch::{CollisionBatch, distances_batch, min_distance_batch};
 use kinetree_collision::kinematics::{KinematicsData, KinematicsError};
 use kinetree_collision::{
@@ -12,12 +12,7 @@ use kinetree_collision::{
 fn batched_distances_equal_the_one_state_path() {
     let (reference, model) = panda();
     let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default()).unwrap();
-    let q: Vec<f64> = reference["samples"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .flat_map(|s| q_of(&model, s))
-        .collect();
+    let q: Vec<f64> = stacked_samples(&reference, &model);
     let (nq, np) = (model.nq(), cmodel.pairs().len());
     let n = q.len() / nq;
     assert!(n >= 5 && np == 513);

@@ -18,6 +18,21 @@ pub(crate) fn panda() -> (Value, Model) {
     (reference, model)
 }
 
+/// The reference's sample configurations, one `q` each.
+pub(crate) fn sample_states(reference: &Value, model: &Model) -> Vec<Vec<f64>> {
+    reference["samples"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| q_of(model, s))
+        .collect()
+}
+
+/// The reference's sample configurations stacked into one `N·nq` batch.
+pub(crate) fn stacked_samples(reference: &Value, model: &Model) -> Vec<f64> {
+    sample_states(reference, model).concat()
+}
+
 /// A robot from an inline URDF body (links and joints), fixed to the world.
 pub(crate) fn urdf(body: &str) -> Model {
     Model::from_urdf_str(

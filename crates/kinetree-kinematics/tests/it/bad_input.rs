@@ -151,13 +151,9 @@ fn an_overflowing_placement_is_an_error_naming_the_body() {
     forward_kinematics(&model, &mut data, &[1e300, 1e300]).unwrap();
 }
 
-/// `compute_frame_jacobian` places only the frame's body and its ancestors: an overflow on another
-/// branch is not its concern, an overflow on the path is, and neither leaves stale state behind.
-#[test]
-fn frame_jacobian_overflow_only_on_the_frames_path() {
-    use kinetree_kinematics::spatial::Motion;
-    use kinetree_kinematics::{ReferenceFrame, compute_frame_jacobian};
-    // A base with two prismatic branches along x: `a` (s1) and `b` (s2).
+/// A base with two prismatic branches along x: `a` (s1) and `b` (s2, placed at x = 1e308, so
+/// `q_s2 = 1e308` overflows b's placement); the model and the two links' frames.
+fn two_prismatic_branches() -> (Model, FrameId, FrameId) {
     let model = Model::from_urdf_str(
         r#"<robot name="r"><link name="base"/><link name="a"/><link name="b"/>
            <joint name="s1" type="prismatic"><parent link="base"/><child link="a"/>
@@ -173,6 +169,16 @@ fn frame_jacobian_overflow_only_on_the_frames_path() {
         FrameId::find(&model, "a").unwrap(),
         FrameId::find(&model, "b").unwrap(),
     );
+    (model, a, b)
+}
+
+/// `compute_frame_jacobian` places only the frame's body and its ancestors: an overflow on another
+/// branch is not its concern, an overflow on the path is, and neither leaves stale state behind.
+#[test]
+fn frame_jacobian_overflow_only_on_the_frames_path() {
+    use kinetree_kinematics::spatial::Motion;
+    use kinetree_kinematics::{ReferenceFrame, compute_frame_jacobian};
+    let (model, a, b) = two_prismatic_branches();
     let mut data = KinematicsData::new(&model);
     let mut jac = vec![Motion::ZERO; 2];
     // b at 1e308 + 1e308 overflows; a's Jacobian does not depend on it.
@@ -200,22 +206,7 @@ fn a_batch_names_the_first_state_that_overflows() {
     };
     use kinetree_kinematics::spatial::{Motion, Se3};
     use kinetree_kinematics::{ReferenceFrame, compute_frame_jacobian};
-    // As above: a base with prismatic branches `a` (s1) and `b` (s2, placed at x = 1e308).
-    let model = Model::from_urdf_str(
-        r#"<robot name="r"><link name="base"/><link name="a"/><link name="b"/>
-           <joint name="s1" type="prismatic"><parent link="base"/><child link="a"/>
-             <axis xyz="1 0 0"/><limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
-           <joint name="s2" type="prismatic"><parent link="base"/><child link="b"/>
-             <origin xyz="1e308 0 0"/>
-             <axis xyz="1 0 0"/><limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
-           </robot>"#,
-        RootJoint::Fixed,
-    )
-    .unwrap();
-    let (a, b) = (
-        FrameId::find(&model, "a").unwrap(),
-        FrameId::find(&model, "b").unwrap(),
-    );
+    let (model, a, b) = two_prismatic_branches();
     let n = 19;
     let mut q: Vec<f64> = (0..2 * n).map(|i| 0.1 * i as f64).collect();
     // States 10 and 13 put b at 1e308 + 1e308.
