@@ -6,7 +6,7 @@
 
 use crate::data::{FrameId, KinematicsData};
 use crate::error::{KinematicsError, check_q};
-use crate::forward::{forward_kinematics_with_velocity, placements_to};
+use crate::forward::{check_finite, forward_kinematics_with_velocity, placements, placements_to};
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
 
@@ -57,7 +57,8 @@ fn world_to_reference(world_from_frame: &Se3, world: &Motion, reference: Referen
 }
 
 /// Computes forward kinematics for `q` and every joint Jacobian column in the world frame
-/// ([`KinematicsData::joint_jacobians`]). Link placements are updated too. Allocates nothing.
+/// ([`KinematicsData::joint_jacobians`]). Link placements are updated too
+/// ([`compute_joint_jacobians_without_links`] skips them). Allocates nothing.
 ///
 /// # Errors
 /// As [`forward_kinematics`](crate::forward_kinematics).
@@ -67,6 +68,58 @@ pub fn compute_joint_jacobians(
     q: &[f64],
 ) -> Result<(), KinematicsError> {
     crate::forward_kinematics(model, data, q)?;
+    fill_joint_jacobians(model, data);
+    Ok(())
+}
+
+/// Computes the body placements for `q` ([`KinematicsData::world_from_body`], Pinocchio's `oMi`)
+/// and every joint Jacobian column in the world frame ([`KinematicsData::joint_jacobians`]), and
+/// nothing else: the work of Pinocchio's `computeJointJacobians`. Unlike
+/// [`compute_joint_jacobians`] it leaves the link placements
+/// ([`KinematicsData::world_from_link`]) as they were, so call [`forward_kinematics`](crate::forward_kinematics)
+/// before reading those; [`frame_jacobian`] reads only the body placements and works after either
+/// call. The Jacobian columns are the same numbers as [`compute_joint_jacobians`]'s, bit for bit.
+/// Allocates nothing.
+///
+/// # Errors
+/// As [`forward_kinematics`](crate::forward_kinematics).
+///
+/// # Examples
+/// ```
+/// use kinetree_kinematics::{compute_joint_jacobians_without_links, frame_jacobian, FrameId,
+///                           KinematicsData, ReferenceFrame};
+/// use kinetree_model::{Model, RootJoint};
+/// use kinetree_model::spatial::Motion;
+/// # fn main() -> Result<(), kinetree_kinematics::KinematicsError> {
+/// let urdf = r#"<robot name="arm"><link name="base"/><link name="tip"/>
+///   <joint name="j" type="revolute"><parent link="base"/><child link="tip"/>
+///     <origin xyz="1 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+/// </robot>"#;
+/// let model = Model::from_urdf_str(urdf, RootJoint::Fixed)?;
+/// let mut data = KinematicsData::new(&model);
+/// compute_joint_jacobians_without_links(&model, &mut data, &[0.3])?;
+/// // The joint turns about world z through (1, 0, 0): its world twist is (0, -1, 0; 0, 0, 1).
+/// let column = data.joint_jacobians()[0];
+/// assert!((column.linear.y + 1.0).abs() < 1e-15 && (column.angular.z - 1.0).abs() < 1e-15);
+/// // A frame Jacobian reads the body placements this call wrote.
+/// let mut jacobian = vec![Motion::ZERO; model.nv()];
+/// let tip = FrameId::find(&model, "tip")?;
+/// frame_jacobian(&model, &data, tip, ReferenceFrame::LocalWorldAligned, &mut jacobian)?;
+/// assert!((jacobian[0].linear.y - 0.0).abs() < 1e-15);
+/// # Ok(())
+/// # }
+/// ```
+pub fn compute_joint_jacobians_without_links(
+    model: &Model,
+    data: &mut KinematicsData,
+    q: &[f64],
+) -> Result<(), KinematicsError> {
+    data.check_model(model)?;
+    check_q(model, "q", q)?;
+    placements(model, data, q);
+    check_finite(model, "placement", &data.world_from_body, |x| {
+        x.translation.is_finite()
+    })?;
     fill_joint_jacobians(model, data);
     Ok(())
 }

@@ -101,8 +101,8 @@ pub use forward::{
 };
 pub use jacobian::{
     ReferenceFrame, change_reference, compute_frame_jacobian, compute_joint_jacobians,
-    compute_joint_jacobians_time_variation, frame_jacobian, frame_jacobian_time_variation,
-    jacobian_to_rows,
+    compute_joint_jacobians_time_variation, compute_joint_jacobians_without_links, frame_jacobian,
+    frame_jacobian_time_variation, jacobian_to_rows,
 };
 pub use joint::JointModel;
 pub use joint::{difference_jacobians, integrate_jacobians};

@@ -5,7 +5,7 @@
 //! as many calls; this is repeated `--repetitions` times and the median ns/call is
 //! printed. With `--json` the output is
 //! `{"model", "nq", "nv", "ns_per_call": {"fk", "fk_frames", "frame_jacobian", "joint_jacobians",
-//! "rnea", "nle", "crba", "aba", "minv", "rnea_derivatives", "aba_derivatives", "collision_any",
+//! "joint_jacobians_without_links", "rnea", "nle", "crba", "aba", "minv", "rnea_derivatives", "aba_derivatives", "collision_any",
 //! "collision_distances", "collision_distances_tol1e-6"}}` (the collision keys
 //! only for models with collision geometry; the last is the same all-pairs distance call at
 //! coal's default distance tolerance of 1e-6 instead of kinetree's 1e-8, see
@@ -15,7 +15,9 @@
 //! anchor benchmark (`fk+frames`, `jacobians`, `rnea`, `nle`, `crba`, `aba`, `minverse`,
 //! `rnea_derivatives`, `aba_derivatives`), so a side-by-side script needs no mapping. kinetree's
 //! `fk` also places every link, so it has no Pinocchio twin (Pinocchio's `fk` places the joints
-//! only); its `fk_frames` is Pinocchio's `fk+frames`.
+//! only); its `fk_frames` is Pinocchio's `fk+frames`. Likewise `joint_jacobians` also places every
+//! link, and Pinocchio's `jacobians` (`computeJointJacobians`) is kinetree's
+//! `joint_jacobians_without_links`, which places the bodies only.
 //! Velocities, accelerations and torques are drawn uniformly in [-1, 1].
 //! `--batch N` times the batched entry points instead (`bench_batch.rs`).
 
@@ -28,7 +30,7 @@ use kinetree::kinematics::configuration::random_configuration;
 use kinetree::kinematics::spatial::Motion;
 use kinetree::kinematics::{
     FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, compute_joint_jacobians,
-    forward_kinematics, update_frame_placements,
+    compute_joint_jacobians_without_links, forward_kinematics, update_frame_placements,
 };
 use kinetree::model::Model;
 use rand::Rng;
@@ -77,7 +79,7 @@ pub(crate) struct Args {
 /// that case's name there.
 const PINOCCHIO_NAMES: [(&str, &str); 9] = [
     ("fk_frames", "fk+frames"),
-    ("joint_jacobians", "jacobians"),
+    ("joint_jacobians_without_links", "jacobians"),
     ("rnea", "rnea"),
     ("nle", "nle"),
     ("crba", "crba"),
@@ -235,7 +237,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let (calls, reps) = (args.calls, args.repetitions);
     let q = |i: usize| &states[i % states.len()];
     crate::interrupt::watch();
-    let mut timings = Timings::new(11);
+    let mut timings = Timings::new(12);
     timings.time("fk", calls, reps, |i| {
         let _ = forward_kinematics(&model, &mut data, black_box(q(i)));
         black_box(&data);
@@ -258,6 +260,10 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     });
     timings.time("joint_jacobians", calls, reps, |i| {
         let _ = compute_joint_jacobians(&model, &mut data, black_box(q(i)));
+        black_box(&data);
+    });
+    timings.time("joint_jacobians_without_links", calls, reps, |i| {
+        let _ = compute_joint_jacobians_without_links(&model, &mut data, black_box(q(i)));
         black_box(&data);
     });
 

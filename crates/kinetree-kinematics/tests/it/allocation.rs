@@ -5,9 +5,9 @@ use crate::common::{q_of, robots, v_of};
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::{
     FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, compute_joint_jacobians,
-    compute_joint_jacobians_time_variation, configuration, forward_kinematics,
-    forward_kinematics_with_acceleration, frame_jacobian, frame_jacobian_time_variation,
-    update_frame_placements, update_world_placements,
+    compute_joint_jacobians_time_variation, compute_joint_jacobians_without_links, configuration,
+    forward_kinematics, forward_kinematics_with_acceleration, frame_jacobian,
+    frame_jacobian_time_variation, update_frame_placements, update_world_placements,
 };
 use kinetree_test_support::{CountingAllocator, allocations_during};
 
@@ -37,6 +37,7 @@ fn hot_paths_do_not_allocate() {
                 update_world_placements(&model, &mut data).unwrap();
                 forward_kinematics_with_acceleration(&model, &mut data, &q, &v, &a).unwrap();
                 compute_joint_jacobians(&model, &mut data, &q).unwrap();
+                compute_joint_jacobians_without_links(&model, &mut data, &q).unwrap();
                 frame_jacobian(
                     &model,
                     &data,

@@ -2,9 +2,10 @@
 
 use crate::common::{column_map, q_of, robots};
 use kinetree_kinematics::spatial::Motion;
+use kinetree_kinematics::spatial::Se3;
 use kinetree_kinematics::{
     FrameId, KinematicsData, ReferenceFrame, compute_frame_jacobian, compute_joint_jacobians,
-    frame_jacobian,
+    compute_joint_jacobians_without_links, frame_jacobian,
 };
 
 const TOL: f64 = 1e-9;
@@ -79,5 +80,47 @@ fn frame_jacobians_match_pinocchio() {
             }
         }
         assert!(worst < TOL, "{robot}: worst Jacobian error {worst:e}");
+    }
+}
+
+#[test]
+fn joint_jacobians_without_links_match_pinocchio() {
+    for (robot, reference, model) in robots() {
+        let mut data = KinematicsData::new(&model);
+        let mut full = KinematicsData::new(&model);
+        let map = column_map(&model, &reference);
+        let mut jac = vec![Motion::ZERO; model.nv()];
+        let mut worst: f64 = 0.0;
+        for sample in reference["samples"].as_array().unwrap() {
+            let q = q_of(&model, sample);
+            compute_joint_jacobians_without_links(&model, &mut data, &q).unwrap();
+            for (link, expected) in sample["jacobians"].as_object().unwrap() {
+                let frame = FrameId::find(&model, link).unwrap();
+                frame_jacobian(
+                    &model,
+                    &data,
+                    frame,
+                    ReferenceFrame::LocalWorldAligned,
+                    &mut jac,
+                )
+                .unwrap();
+                for &(ours, theirs) in &map {
+                    let col = jac[ours].to_array();
+                    for r in 0..6 {
+                        worst = worst.max((col[r] - expected[r][theirs].as_f64().unwrap()).abs());
+                    }
+                }
+            }
+            // The same columns and body placements as the call that also places the links.
+            compute_joint_jacobians(&model, &mut full, &q).unwrap();
+            assert_eq!(data.joint_jacobians(), full.joint_jacobians(), "{robot}");
+            assert_eq!(data.world_from_body(), full.world_from_body(), "{robot}");
+        }
+        assert!(worst < TOL, "{robot}: worst Jacobian error {worst:e}");
+        // The link placements were never written: they keep their initial identity.
+        assert!(
+            data.world_from_link().iter().all(|x| *x == Se3::IDENTITY),
+            "{robot}: link placements were written"
+        );
     }
 }
