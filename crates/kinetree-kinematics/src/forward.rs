@@ -185,7 +185,12 @@ fn place(model: &Model, data: &mut KinematicsData, q: &[f64], i: usize) {
         );
         return;
     }
-    let local = jm.body_transform(b, q);
+    // The joint's kernel inlined into the sweep (`body_transform` was a call that returned the
+    // placement through memory).
+    let local = match &b.mimic {
+        None => jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]),
+        Some(_) => jm.body_transform(b, q),
+    };
     data.parent_from_body[i] = local;
     data.world_from_body[i] = if b.parent == 0 {
         local
