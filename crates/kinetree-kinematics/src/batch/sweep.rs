@@ -14,6 +14,10 @@ pub(crate) struct LaneBuffers<const L: usize> {
     world_from_body: Vec<LSe3<L>>,
     world_from_link: Vec<LSe3<L>>,
     columns: Vec<LMotion<L>>,
+    /// The Jacobian columns the frame's path writes (the others are zero in every state), and
+    /// the same as a mask over the `nv` columns.
+    path_columns: Vec<usize>,
+    on_path: Vec<bool>,
 }
 
 impl<const L: usize> LaneBuffers<L> {
@@ -22,6 +26,8 @@ impl<const L: usize> LaneBuffers<L> {
             world_from_body: vec![LSe3::splat(&Se3::IDENTITY); model.nbodies()],
             world_from_link: vec![LSe3::splat(&Se3::IDENTITY); model.links().len()],
             columns: vec![LMotion::ZERO; model.nv()],
+            path_columns: Vec::with_capacity(model.nv()),
+            on_path: vec![false; model.nv()],
         }
     }
 }
@@ -200,6 +206,16 @@ fn act_axis<const L: usize>(x: &LSe3<L>, k: usize, revolute: bool) -> LMotion<L>
     }
 }
 
+/// Column `k` of joint `jm`'s motion subspace moved by `x` (a world-frame Jacobian column when
+/// `x` is the body's world placement).
+#[inline(always)]
+fn column<const L: usize>(x: &LSe3<L>, jm: &JointModel, k: usize) -> LMotion<L> {
+    match jm.axis_index() {
+        Some((a, revolute)) => act_axis(x, a, revolute),
+        None => x.act_motion(&LMotion::splat(&jm.subspace_column(k))),
+    }
+}
+
 /// The Jacobian of `frame` in `reference` for the `n` states of `q`, into `out` (`n · nv`
 /// columns; inputs checked by the caller), as `compute_frame_jacobian`, which places only the
 /// frame's body and its ancestors. Returns the first state with a placement on that path or a
@@ -218,13 +234,31 @@ pub(crate) fn frame_jacobian<const L: usize>(
     let nv = model.nv();
     let bodies = model.bodies();
     let (body, body_from_frame) = body_and_placement;
+    // The columns the path writes (a coupled mimic follower writes its leader's); every other
+    // column is zero in every state, so only these are cleared and read from the lanes.
+    bufs.on_path.fill(false);
+    bufs.path_columns.clear();
+    let mut i = body;
+    while i != 0 {
+        let b = &bodies[i];
+        let written = if b.mimic.is_some() { 1 } else { b.nv };
+        for c in b.idx_v..b.idx_v + written {
+            if !bufs.on_path[c] {
+                bufs.on_path[c] = true;
+                bufs.path_columns.push(c);
+            }
+        }
+        i = b.parent;
+    }
     let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
         body_sweep_to(shape, &mut bufs.world_from_body, q, &idx, body);
         let world_from_frame = bufs.world_from_body[body].mul_const(&body_from_frame);
-        bufs.columns.fill(LMotion::ZERO);
+        for &c in &bufs.path_columns {
+            bufs.columns[c] = LMotion::ZERO;
+        }
         let mut probe = Lanes::ZERO;
         let mut i = body;
         while i != 0 {
@@ -232,26 +266,29 @@ pub(crate) fn frame_jacobian<const L: usize>(
             let x = &bufs.world_from_body[i];
             probe += non_finite(&x.translation);
             let jm = &shape.joint_models[i];
-            let axis = jm.axis_index();
-            let column = |k: usize| match axis {
-                Some((a, revolute)) => act_axis(x, a, revolute),
-                None => x.act_motion(&LMotion::splat(&jm.subspace_column(k))),
-            };
             if let Some(m) = &b.mimic {
-                let col = to_reference(&world_from_frame, &column(0), reference);
+                let col = to_reference(&world_from_frame, &column(x, jm, 0), reference);
                 bufs.columns[b.idx_v] += col.scale(Lanes::splat(m.multiplier));
             } else {
                 for k in 0..b.nv {
                     bufs.columns[b.idx_v + k] +=
-                        to_reference(&world_from_frame, &column(k), reference);
+                        to_reference(&world_from_frame, &column(x, jm, k), reference);
                 }
             }
             i = b.parent;
         }
-        for (c, col) in bufs.columns.iter().enumerate() {
+        for &c in &bufs.path_columns {
+            let col = &bufs.columns[c];
             probe += non_finite(&col.linear) + non_finite(&col.angular);
-            for k in 0..count {
-                out[(start + k) * nv + c] = col.lane(k);
+        }
+        for k in 0..count {
+            let row = &mut out[(start + k) * nv..(start + k + 1) * nv];
+            for (c, out) in row.iter_mut().enumerate() {
+                *out = if bufs.on_path[c] {
+                    bufs.columns[c].lane(k)
+                } else {
+                    Motion::ZERO
+                };
             }
         }
         if bad.is_none() {
