@@ -174,6 +174,31 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
     fext: Option<&ExternalForces>,
     output: Output,
 ) {
+    kinetree_kinematics::with_simd!(
+        sweep_kernel[const VEL: bool, const ACC: bool],
+        (
+            model: &Model = model,
+            data: &mut DynamicsData = data,
+            q: &[f64] = q,
+            v: &[f64] = v,
+            a: &[f64] = a,
+            fext: Option<&ExternalForces> = fext,
+            output: Output = output,
+        ) -> ()
+    );
+}
+
+/// [`sweep`], to be compiled for the instruction set it runs with.
+#[inline(always)]
+fn sweep_kernel<const VEL: bool, const ACC: bool>(
+    model: &Model,
+    data: &mut DynamicsData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    fext: Option<&ExternalForces>,
+    output: Output,
+) {
     let bodies = model.bodies();
     let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
     let world = fext.is_some_and(ExternalForces::needs_world);

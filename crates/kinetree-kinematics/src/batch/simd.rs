@@ -99,6 +99,54 @@ macro_rules! with_avx2 {
     }};
 }
 
+/// Calls `$kernel::<G…>(args…)` (a one-state sweep, `#[inline(always)]`, with the const
+/// generic parameters listed in brackets, possibly none) compiled for AVX-512F with VL when the
+/// CPU has them, else for AVX2, else as built. A one-state sweep is a long run of small products
+/// on 3-vectors, two numbers per instruction at most: what the wider sets buy there is the
+/// three-operand instruction forms (no register copies) and, with AVX-512, 32 vector registers
+/// instead of 16 (fewer spills). FMA is not enabled and the compiler never reorders
+/// floating-point operations, so the results are the portable build's bit for bit. The
+/// target-feature calls are `unsafe` only because the features must be present, which the macro
+/// checks first.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! with_simd {
+    ($kernel:ident [$(const $g:ident: $gt:ty),*], ($($a:ident: $t:ty = $v:expr),* $(,)?) -> $r:ty) => {{
+        let out: $r;
+        #[cfg(target_arch = "x86_64")]
+        {
+            #[target_feature(enable = "avx512f,avx512vl")]
+            #[allow(clippy::too_many_arguments, reason = "the kernel's own arguments, passed through")]
+            fn avx512<$(const $g: $gt),*>($($a: $t),*) -> $r {
+                $kernel::<$($g),*>($($a),*)
+            }
+            #[target_feature(enable = "avx2")]
+            #[allow(clippy::too_many_arguments, reason = "the kernel's own arguments, passed through")]
+            fn avx2<$(const $g: $gt),*>($($a: $t),*) -> $r {
+                $kernel::<$($g),*>($($a),*)
+            }
+            out = if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+            {
+                #[allow(unsafe_code, reason = "the CPU was just checked for AVX-512F and VL")]
+                // SAFETY: the CPU has AVX-512F and AVX-512VL.
+                unsafe { avx512::<$($g),*>($($v),*) }
+            } else if std::arch::is_x86_feature_detected!("avx2") {
+                #[allow(unsafe_code, reason = "the CPU was just checked for AVX2")]
+                // SAFETY: the CPU has AVX2.
+                unsafe { avx2::<$($g),*>($($v),*) }
+            } else {
+                $kernel::<$($g),*>($($v),*)
+            };
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            out = $kernel::<$($g),*>($($v),*);
+        }
+        out
+    }};
+}
+
 /// Runs `$kernel::<L>(bufs, args…)` compiled for the instruction set `$simd`, with `$bufs4`
 /// (a `&mut $buf<4>`) or `$bufs8` (a `&mut $buf<8>`) as the kernel's first argument. The
 /// target-feature calls are the only `unsafe` of the batched sweeps: a workspace picks its
