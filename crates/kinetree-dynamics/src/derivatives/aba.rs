@@ -3,6 +3,7 @@
 use super::data::Articulated;
 use super::data::{AbaDerivatives, DerivativesData};
 use super::rnea::{apply_external, backward, forward_acceleration, forward_velocity};
+use super::solve::DofTree;
 use crate::data::sign;
 use crate::error::{DynamicsError, check_vector};
 use crate::external::ExternalForces;
@@ -86,6 +87,45 @@ fn compute<'d>(
 ) -> Result<AbaDerivatives<'d>, DynamicsError> {
     check_inputs(model, &data.dynamics, q, Some(v), None)?;
     check_vector("tau", tau, model.nv())?;
+    kinetree_kinematics::with_avx2!(
+        kernel,
+        (
+            model: &Model = model,
+            data: &mut DerivativesData = data,
+            q: &[f64] = q,
+            v: &[f64] = v,
+            tau: &[f64] = tau,
+            fext: Option<&ExternalForces> = fext,
+        ) -> Result<(), DynamicsError>
+    )?;
+    // An overflow (finite inputs, huge lengths or velocities) is an error, never NaN in an Ok.
+    for (what, x) in [
+        ("ddq", &data.ddq),
+        ("dddq_dq", &data.dddq_dq),
+        ("dddq_dv", &data.dddq_dv),
+        ("dddq_dtau", &data.dynamics.mass_matrix_inverse),
+    ] {
+        crate::error::check_output(model, &data.dynamics, what, x)?;
+    }
+    Ok(AbaDerivatives {
+        ddq: &data.ddq,
+        dddq_dq: &data.dddq_dq,
+        dddq_dv: &data.dddq_dv,
+        dddq_dtau: &data.dynamics.mass_matrix_inverse,
+    })
+}
+
+/// The sweeps and solves of [`compute`], compiled for AVX2 where the CPU has it (no FMA, no
+/// reordering: the results are the portable build's bit for bit).
+#[inline(always)]
+fn kernel(
+    model: &Model,
+    data: &mut DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    fext: Option<&ExternalForces>,
+) -> Result<(), DynamicsError> {
     forward_velocity(model, data, q, v);
     let has_external = apply_external(data, fext);
     data.dynamics.factorized = false;
@@ -116,30 +156,31 @@ fn compute<'d>(
     let dynamics = &mut data.dynamics;
     dynamics.mass_matrix.copy_from_slice(&data.dtau_da);
     dynamics.factorized = true;
-    let factor = &dynamics.factor;
-    data.tree.invert(factor, &mut dynamics.mass_matrix_inverse);
-    data.tree.neg_solve_pair(
-        factor,
+    solve(
+        &mut data.tree,
+        &dynamics.factor,
+        &mut dynamics.mass_matrix_inverse,
         &data.dtau_dq,
         &data.dtau_dv,
         &mut data.dddq_dq,
         &mut data.dddq_dv,
     );
-    // An overflow (finite inputs, huge lengths or velocities) is an error, never NaN in an Ok.
-    for (what, x) in [
-        ("ddq", &data.ddq),
-        ("dddq_dq", &data.dddq_dq),
-        ("dddq_dv", &data.dddq_dv),
-        ("dddq_dtau", &data.dynamics.mass_matrix_inverse),
-    ] {
-        crate::error::check_output(model, &data.dynamics, what, x)?;
-    }
-    Ok(AbaDerivatives {
-        ddq: &data.ddq,
-        dddq_dq: &data.dddq_dq,
-        dddq_dv: &data.dddq_dv,
-        dddq_dtau: &data.dynamics.mass_matrix_inverse,
-    })
+    Ok(())
+}
+
+/// `M⁻¹` and `-M⁻¹·∂τ/∂q`, `-M⁻¹·∂τ/∂v` from the factor.
+#[inline(always)]
+fn solve(
+    tree: &mut DofTree,
+    factor: &[f64],
+    inverse: &mut [f64],
+    dtau_dq: &[f64],
+    dtau_dv: &[f64],
+    dddq_dq: &mut [f64],
+    dddq_dv: &mut [f64],
+) {
+    tree.invert(factor, inverse);
+    tree.neg_solve_pair(factor, dtau_dq, dtau_dv, dddq_dq, dddq_dv);
 }
 
 /// Backward pass of the articulated-body algorithm in world coordinates, one degree of freedom
@@ -153,6 +194,7 @@ fn compute<'d>(
 /// freedom `i` is eliminated it acts as the rigid inertia `Iᴬ` on `i`'s body, so
 /// `L[i][j] = s_jᵀ·U_i / D_i` for every ancestor `j`. They are written into
 /// `data.dynamics.factor`, so no mass matrix needs factorizing.
+#[inline(always)]
 fn articulated(
     model: &Model,
     data: &mut DerivativesData,

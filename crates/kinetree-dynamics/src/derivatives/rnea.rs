@@ -50,7 +50,20 @@ pub fn rnea_derivatives<'d>(
 ) -> Result<RneaDerivatives<'d>, DynamicsError> {
     check_inputs(model, &data.dynamics, q, Some(v), Some(a))?;
     let mut dq = core::mem::take(&mut data.dtau_dq);
-    let bounded = sweep::<true>(model, data, q, v, a, None, &mut dq);
+    // In 256-bit vectors where the CPU has them (the results are the portable build's bit for
+    // bit).
+    let bounded = kinetree_kinematics::with_avx2!(
+        sweep::<true>,
+        (
+            model: &Model = model,
+            data: &mut DerivativesData = data,
+            q: &[f64] = q,
+            v: &[f64] = v,
+            a: &[f64] = a,
+            fext: Option<&ExternalForces> = None,
+            dq: &mut [f64] = &mut dq,
+        ) -> bool
+    );
     data.dtau_dq = dq;
     check_rnea_outputs(model, data, bounded)?;
     Ok(data.rnea_result())
@@ -76,7 +89,20 @@ pub fn rnea_derivatives_with_external_forces<'d>(
     check_inputs(model, &data.dynamics, q, Some(v), Some(a))?;
     fext.check_model(model)?;
     let mut dq = core::mem::take(&mut data.dtau_dq);
-    let bounded = sweep::<true>(model, data, q, v, a, Some(fext), &mut dq);
+    // In 256-bit vectors where the CPU has them (the results are the portable build's bit for
+    // bit).
+    let bounded = kinetree_kinematics::with_avx2!(
+        sweep::<true>,
+        (
+            model: &Model = model,
+            data: &mut DerivativesData = data,
+            q: &[f64] = q,
+            v: &[f64] = v,
+            a: &[f64] = a,
+            fext: Option<&ExternalForces> = Some(fext),
+            dq: &mut [f64] = &mut dq,
+        ) -> bool
+    );
     data.dtau_dq = dq;
     check_rnea_outputs(model, data, bounded)?;
     Ok(data.rnea_result())
@@ -174,6 +200,7 @@ fn variation_block(y: &WorldInertia, v: &Motion, h: &Force) -> DMat3 {
 
 /// The sweeps. With `FULL`, `∂τ/∂v` and `∂τ/∂a` are written too (else only `∂τ/∂q`, into `dq`).
 /// True when every matrix entry written is proven finite (see [`backward`]).
+#[inline(always)]
 pub(super) fn sweep<const FULL: bool>(
     model: &Model,
     data: &mut DerivativesData,
@@ -206,6 +233,7 @@ pub(super) fn sweep<const FULL: bool>(
 /// Forward, what does not depend on the acceleration: placements, velocities, the velocity
 /// product bias `c = v_parent × v_joint`, rigid inertias, bias forces `v × (Y·v)` and the
 /// per-column derivatives of velocity.
+#[inline(always)]
 pub(super) fn forward_velocity(model: &Model, data: &mut DerivativesData, q: &[f64], v: &[f64]) {
     let bodies = model.bodies();
     let joint_models = data.dynamics.kinematics.joint_models();
@@ -279,6 +307,7 @@ pub(super) fn forward_acceleration(
 
 /// Subtracts the external wrenches from the bodies' forces and records the parts of their
 /// derivatives that the rigid motion of the bodies does not explain; whether there were any.
+#[inline(always)]
 pub(super) fn apply_external(data: &mut DerivativesData, fext: Option<&ExternalForces>) -> bool {
     let mut has_external = false;
     if let Some(fext) = fext {
@@ -328,6 +357,7 @@ pub(super) fn apply_external(data: &mut DerivativesData, fext: Option<&ExternalF
 /// `R` the sum of `|bₖ|` over every right factor; both sums are accumulated on the way, and
 /// `L·R < 1e300` (false for an infinite or NaN sum) proves every entry finite with rounding
 /// to spare. Otherwise the caller scans the matrices.
+#[inline(always)]
 pub(super) fn backward<const FULL: bool>(
     model: &Model,
     data: &mut DerivativesData,

@@ -145,6 +145,7 @@ impl DofTree {
     /// From `L·M⁻¹ = D⁻¹·L⁻ᵀ` (upper triangular): for `j < i`, `M⁻¹[i][j] = -Σ L[i][l]·M⁻¹[l][j]`
     /// over the ancestors `l` of `i`, and `M⁻¹[i][i] = 1/D[i] - Σ L[i][l]·M⁻¹[i][l]`. Rows go in
     /// order and are mirrored at once, so every `M⁻¹[l][j]` needed is known.
+    #[inline(always)]
     pub(crate) fn invert(&mut self, h: &[f64], y: &mut [f64]) {
         let (nv, np) = (self.nv, self.np);
         let Self {
@@ -183,6 +184,7 @@ impl DofTree {
     /// Two triangular solves on the pair `[x_q x_v]`: `Lᵀ·Y = x` from the leaves up, which keeps
     /// the sparsity of `x` (row `i` only touches its ancestors' rows, on its own nonzero
     /// columns), then `L·out = -D⁻¹·Y` from the root down, on whole rows.
+    #[inline(always)]
     pub(crate) fn neg_solve_pair(
         &mut self,
         h: &[f64],
