@@ -26,6 +26,74 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     t
 }
 
+/// The lower triangle of `JᵀJ` (into `a`, `f x f` row-major) and `Jᵀw` (into `rhs`) for the
+/// `m x f` row-major `j`, when `f` is at most 8; `false` (nothing written) otherwise. Sums run
+/// over the rows in order, as the general loop's outer products do, so the result is the same;
+/// with `f` known at compile time the loops unroll into registers.
+pub(crate) fn normal_cols(j: &[f64], m: usize, w: &[f64], a: &mut [f64], rhs: &mut [f64]) -> bool {
+    let f = j.len().checked_div(m).unwrap_or(0);
+    match f {
+        1 => normal_cols_fixed::<1>(j, w, a, rhs),
+        2 => normal_cols_fixed::<2>(j, w, a, rhs),
+        3 => normal_cols_fixed::<3>(j, w, a, rhs),
+        4 => normal_cols_fixed::<4>(j, w, a, rhs),
+        5 => normal_cols_fixed::<5>(j, w, a, rhs),
+        6 => normal_cols_fixed::<6>(j, w, a, rhs),
+        7 => normal_cols_fixed::<7>(j, w, a, rhs),
+        8 => normal_cols_fixed::<8>(j, w, a, rhs),
+        _ => return false,
+    }
+    true
+}
+
+#[inline(always)]
+fn normal_cols_fixed<const F: usize>(j: &[f64], w: &[f64], a: &mut [f64], rhs: &mut [f64]) {
+    let mut g = [[0.0f64; F]; F];
+    let mut r = [0.0f64; F];
+    for (row, &wk) in j.chunks_exact(F).zip(w) {
+        let row: &[f64; F] = row.try_into().expect("chunks of F");
+        for i in 0..F {
+            r[i] += row[i] * wk;
+            for c in 0..=i {
+                g[i][c] += row[i] * row[c];
+            }
+        }
+    }
+    for (i, gi) in g.iter().enumerate() {
+        a[i * F..i * F + i + 1].copy_from_slice(&gi[..=i]);
+    }
+    rhs[..F].copy_from_slice(&r);
+}
+
+/// The lower triangle of `JJᵀ` (into `a`, `m x m` row-major) for the `m x f` row-major `j`, when
+/// `f` is at most 8; `false` (nothing written) otherwise. Each entry is [`dot`] of two rows, as
+/// in the general loop.
+pub(crate) fn normal_rows(j: &[f64], m: usize, a: &mut [f64]) -> bool {
+    let f = j.len().checked_div(m).unwrap_or(0);
+    match f {
+        1 => normal_rows_fixed::<1>(j, m, a),
+        2 => normal_rows_fixed::<2>(j, m, a),
+        3 => normal_rows_fixed::<3>(j, m, a),
+        4 => normal_rows_fixed::<4>(j, m, a),
+        5 => normal_rows_fixed::<5>(j, m, a),
+        6 => normal_rows_fixed::<6>(j, m, a),
+        7 => normal_rows_fixed::<7>(j, m, a),
+        8 => normal_rows_fixed::<8>(j, m, a),
+        _ => return false,
+    }
+    true
+}
+
+#[inline(always)]
+fn normal_rows_fixed<const F: usize>(j: &[f64], m: usize, a: &mut [f64]) {
+    let rows: &[[f64; F]] = j.as_chunks::<F>().0;
+    for (k, rk) in rows.iter().enumerate() {
+        for (l, rl) in rows[..=k].iter().enumerate() {
+            a[k * m + l] = dot(rk, rl);
+        }
+    }
+}
+
 /// Factorises the symmetric positive definite `n x n` matrix `a` (row-major; only the lower
 /// triangle is read) in place as `a = L D Lᵀ`: the strict lower triangle of `a` becomes the unit
 /// lower-triangular `L` and `inv_d` (length `n`) receives `1 / D`. No square root, one division
@@ -186,6 +254,47 @@ mod tests {
             solve(&l, n, &inv, &mut b);
             for (xi, bi) in x.iter().zip(&b) {
                 assert!((xi - bi).abs() < 1e-8 * n as f64, "n = {n}: {xi} vs {bi}");
+            }
+        }
+    }
+
+    #[test]
+    fn fixed_size_normal_equations_match_the_sums() {
+        for (m, f) in [
+            (6usize, 1usize),
+            (6, 5),
+            (6, 6),
+            (6, 7),
+            (3, 8),
+            (12, 7),
+            (6, 9),
+        ] {
+            let j: Vec<f64> = (0..m * f)
+                .map(|k| ((k * 7919 % 101) as f64) / 50.0 - 1.0)
+                .collect();
+            let w: Vec<f64> = (0..m).map(|k| 0.3 * k as f64 - 0.7).collect();
+            let (mut a, mut rhs) = (vec![7.0; f * f], vec![7.0; f]);
+            let mut g = vec![7.0; m * m];
+            let fixed = f <= 8;
+            assert_eq!(normal_cols(&j, m, &w, &mut a, &mut rhs), fixed);
+            assert_eq!(normal_rows(&j, m, &mut g), fixed);
+            if !fixed {
+                assert!(a.iter().chain(&rhs).chain(&g).all(|x| *x == 7.0));
+                continue;
+            }
+            for r in 0..f {
+                let jw: f64 = (0..m).map(|k| j[k * f + r] * w[k]).sum();
+                assert!((rhs[r] - jw).abs() < 1e-12, "m {m} f {f}");
+                for c in 0..=r {
+                    let s: f64 = (0..m).map(|k| j[k * f + r] * j[k * f + c]).sum();
+                    assert!((a[r * f + c] - s).abs() < 1e-12, "m {m} f {f}");
+                }
+            }
+            for k in 0..m {
+                for l in 0..=k {
+                    let s: f64 = (0..f).map(|c| j[k * f + c] * j[l * f + c]).sum();
+                    assert!((g[k * m + l] - s).abs() < 1e-12, "m {m} f {f}");
+                }
             }
         }
     }

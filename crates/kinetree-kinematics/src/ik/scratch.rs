@@ -3,7 +3,7 @@
 
 use super::params::IkParams;
 use glam::{DMat3, DVec3};
-use kinetree_model::spatial::Se3;
+use kinetree_model::spatial::{Motion, Se3};
 
 /// The limits of the configuration coordinate a velocity coordinate drives (infinite when none).
 #[derive(Clone, Copy, Debug)]
@@ -92,10 +92,11 @@ pub(super) struct Workspace {
     pub(super) followers: Vec<(usize, usize, f64)>,
     /// The bodies whose joints move in this solve.
     pub(super) moving: Vec<usize>,
-    /// The moving velocity coordinates, their body and their index within the joint.
+    /// The moving velocity coordinates, their body and their joint's motion subspace column
+    /// (in the body frame), looked up once per solve.
     pub(super) dofs: Vec<usize>,
     pub(super) dof_body: Vec<usize>,
-    pub(super) dof_local: Vec<usize>,
+    pub(super) dof_axis: Vec<Motion>,
     pub(super) targets: Vec<TargetState>,
     pub(super) ntargets: usize,
     /// Number of residual rows.
@@ -137,7 +138,7 @@ impl Workspace {
             moving: Vec::with_capacity(nb),
             dofs: Vec::with_capacity(nv),
             dof_body: Vec::with_capacity(nv),
-            dof_local: Vec::with_capacity(nv),
+            dof_axis: Vec::with_capacity(nv),
             targets: vec![TargetState::EMPTY; max_targets],
             ntargets: 0,
             m: 0,

@@ -28,7 +28,9 @@ use crate::configuration::{sampling_range, wrap_angle};
 use crate::data::KinematicsData;
 use crate::error::{KinematicsError, check_vector};
 use crate::forward::{forward_kinematics, update_frame_placements};
+use crate::joint::JointModel;
 use glam::DQuat;
+use kinetree_model::spatial::Motion;
 use kinetree_model::spatial::rotation::{is_rotation, orthonormalize};
 use kinetree_model::{JointKind, Model};
 use rand::rngs::SmallRng;
@@ -64,6 +66,8 @@ pub struct IkSolver {
     allowed: Vec<bool>,
     /// Per velocity coordinate: the limits of the coordinate it drives.
     bounds: Vec<DofBound>,
+    /// Per velocity coordinate: its joint's motion subspace column (body frame).
+    axes: Vec<Motion>,
     posture: Vec<f64>,
     posture_gain: f64,
     rng: SmallRng,
@@ -114,7 +118,15 @@ impl IkSolver {
                 }
             }
         }
+        let mut axes = vec![Motion::ZERO; model.nv()];
+        for b in model.bodies().iter().skip(1) {
+            let joint = JointModel::from_body(b);
+            for k in 0..b.nv {
+                axes[b.idx_v + k] = joint.subspace_column(k);
+            }
+        }
         Self {
+            axes,
             nq: model.nq(),
             nv: model.nv(),
             nbodies: model.nbodies(),
@@ -604,7 +616,7 @@ impl IkSolver {
         ws.moving.clear();
         ws.dofs.clear();
         ws.dof_body.clear();
-        ws.dof_local.clear();
+        ws.dof_axis.clear();
         ws.followers.clear();
         // The coordinates that move a target: those of the marked bodies, and the leaders of
         // marked coupled mimic followers.
@@ -626,7 +638,7 @@ impl IkSolver {
                 for k in 0..b.nv {
                     ws.dofs.push(b.idx_v + k);
                     ws.dof_body.push(i);
-                    ws.dof_local.push(k);
+                    ws.dof_axis.push(self.axes[b.idx_v + k]);
                 }
             }
         }

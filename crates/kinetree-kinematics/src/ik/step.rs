@@ -72,8 +72,7 @@ impl Workspace {
         for c in 0..n {
             let body = self.dof_body[c];
             let b = &bodies[body];
-            let col = data.world_from_body[body]
-                .act_motion(&data.joint_models[body].subspace_column(self.dof_local[c]));
+            let col = data.world_from_body[body].act_motion(&self.dof_axis[c]);
             for t in &self.targets[..self.ntargets] {
                 let rows = t.offset..t.offset + t.nrows;
                 if body <= t.body && t.body < b.subtree_end {
@@ -211,11 +210,15 @@ pub(super) fn step(
         ws.step[..n].copy_from_slice(&ws.z[..n]);
         if m < f {
             let a = &mut ws.chol[..m * m];
-            for k in 0..m {
-                let rk = &jf[k * f..(k + 1) * f];
-                for l in 0..=k {
-                    a[k * m + l] = dot(rk, &jf[l * f..(l + 1) * f]);
+            if !cholesky::normal_rows(jf, m, a) {
+                for k in 0..m {
+                    let rk = &jf[k * f..(k + 1) * f];
+                    for l in 0..=k {
+                        a[k * m + l] = dot(rk, &jf[l * f..(l + 1) * f]);
+                    }
                 }
+            }
+            for k in 0..m {
                 a[k * m + k] += lambda;
             }
             if !cholesky::factor(a, m, &mut ws.inv_diag[..m]) {
@@ -231,19 +234,21 @@ pub(super) fn step(
             }
         } else {
             let a = &mut ws.chol[..f * f];
-            a.fill(0.0);
-            ws.rhs[..f].fill(0.0);
-            // Sums of one outer product per row: independent accumulators that vectorise.
-            for k in 0..m {
-                let row = &jf[k * f..(k + 1) * f];
-                let wk = ws.w[k];
-                for (ra, x) in ws.rhs[..f].iter_mut().zip(row) {
-                    *ra += x * wk;
-                }
-                for (i, &x) in row.iter().enumerate() {
-                    if x != 0.0 {
-                        for (aij, y) in a[i * f..i * f + i + 1].iter_mut().zip(row) {
-                            *aij += x * y;
+            if !cholesky::normal_cols(jf, m, &ws.w[..m], a, &mut ws.rhs[..f]) {
+                a.fill(0.0);
+                ws.rhs[..f].fill(0.0);
+                // Sums of one outer product per row: independent accumulators that vectorise.
+                for k in 0..m {
+                    let row = &jf[k * f..(k + 1) * f];
+                    let wk = ws.w[k];
+                    for (ra, x) in ws.rhs[..f].iter_mut().zip(row) {
+                        *ra += x * wk;
+                    }
+                    for (i, &x) in row.iter().enumerate() {
+                        if x != 0.0 {
+                            for (aij, y) in a[i * f..i * f + i + 1].iter_mut().zip(row) {
+                                *aij += x * y;
+                            }
                         }
                     }
                 }
