@@ -61,6 +61,57 @@ fn collide_reports_hand_computed_distances() {
 }
 
 #[test]
+fn collide_distance_tolerance_bounds_the_change() {
+    // The closest pairs of panda_collision at the default 1e-8 and at 1e-3: each reported
+    // distance is within tol · max(|d|, 1 mm) above the exact one, so the two lists differ by at
+    // most 1e-3 · max(|d|, 1 mm) per pair (plus the printed rounding, 5e-7 m each), and the
+    // cylinder pairs that GJK/EPA solve move visibly at 1e-3.
+    let urdf = data("reference/urdf/panda_collision.urdf");
+    let q = "panda_joint2=0.7,panda_joint4=-1.2,panda_joint6=1.9";
+    let list = |extra: &[&str]| {
+        let mut args = vec!["collide", urdf.as_str(), "--q", q, "--closest", "600"];
+        args.extend_from_slice(extra);
+        let o = kinetree(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = format!("\n{}", stdout(&o));
+        section(&text, "closest self pairs")
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let w: Vec<&str> = l.split_whitespace().collect();
+                (
+                    (w[0].to_string(), w[1].to_string()),
+                    w[2].parse::<f64>().unwrap(),
+                )
+            })
+            .collect::<std::collections::BTreeMap<_, _>>()
+    };
+    let fine = list(&[]);
+    let coarse = list(&["--distance-tolerance", "1e-3"]);
+    assert_eq!(fine.len(), 513);
+    assert_eq!(
+        fine.keys().collect::<Vec<_>>(),
+        coarse.keys().collect::<Vec<_>>()
+    );
+    let mut moved = 0;
+    for (pair, f) in &fine {
+        let change = coarse[pair] - f;
+        let bound = 1e-3 * f.abs().max(1e-3);
+        assert!(
+            -1e-8 * f.abs().max(1e-3) - 1e-6 <= change && change <= bound + 1e-6,
+            "{pair:?}: {f} -> {}",
+            coarse[pair]
+        );
+        moved += usize::from(change != 0.0);
+    }
+    assert!(moved > 0);
+    for bad in ["0", "1e-2", "nan"] {
+        let o = kinetree(&["collide", urdf.as_str(), "--distance-tolerance", bad]);
+        refused(&o, &["--distance-tolerance", "distance tolerance"]);
+    }
+}
+
+#[test]
 fn ik_solution_places_the_frame_where_compute_finds_it() {
     let o = kinetree(&[
         "ik",

@@ -16,7 +16,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex, TryLockError};
+use std::sync::{Arc, Mutex, RwLock, TryLockError};
 
 const F: Family = Family::Collision;
 
@@ -42,18 +42,29 @@ struct ObstacleSpec {
 #[derive(Debug)]
 pub(crate) struct PyCollisionModel {
     model: Arc<Model>,
-    cmodel: Arc<CollisionModel>,
+    /// Replaced (not mutated) by ``set_distance_tolerance``, so running queries keep theirs.
+    cmodel: RwLock<Arc<CollisionModel>>,
     options: CollisionOptions,
     obstacles: Mutex<Vec<ObstacleSpec>>,
     scratch: Mutex<(KinematicsData, CollisionData)>,
 }
 
 impl PyCollisionModel {
+    /// The current collision model.
+    fn cm(&self) -> Arc<CollisionModel> {
+        Arc::clone(
+            &self
+                .cmodel
+                .read()
+                .unwrap_or_else(std::sync::PoisonError::into_inner),
+        )
+    }
+
     fn new_data(
         &self,
         obstacles: &[ObstacleSpec],
     ) -> Result<(KinematicsData, CollisionData), kinetree::Error> {
-        let mut data = CollisionData::new(&self.cmodel);
+        let mut data = CollisionData::new(&self.cm());
         for o in obstacles {
             data.add_obstacle(o.name.clone(), &o.geometry, &o.pose, &self.options)?;
         }
@@ -74,9 +85,10 @@ impl PyCollisionModel {
         q: &[f64],
         f: impl FnOnce(&CollisionModel, &mut CollisionData) -> Result<R, kinetree::Error>,
     ) -> PyResult<R> {
+        let cmodel = self.cm();
         let run = |(k, d): &mut (KinematicsData, CollisionData)| -> Result<R, kinetree::Error> {
-            d.compute_placements(&self.model, &self.cmodel, k, q)?;
-            f(&self.cmodel, d)
+            d.compute_placements(&self.model, &cmodel, k, q)?;
+            f(&cmodel, d)
         };
         match self.scratch.try_lock() {
             Ok(mut s) => run(&mut s),
@@ -101,15 +113,16 @@ impl PyCollisionModel {
     ) -> PyResult<Bound<'py, PyList>> {
         let out = PyList::empty(py);
         let obstacles = self.obstacles()?;
+        let cmodel = self.cm();
         for p in list {
             let d = PyDict::new(py);
-            d.set_item("a", self.cmodel.shapes()[p.a].name())?;
+            d.set_item("a", cmodel.shapes()[p.a].name())?;
             let b = if world {
                 obstacles
                     .get(p.b)
                     .map_or_else(|| format!("obstacle {}", p.b), |o| o.name.clone())
             } else {
-                self.cmodel.shapes()[p.b].name().to_string()
+                cmodel.shapes()[p.b].name().to_string()
             };
             d.set_item("b", b)?;
             d.set_item("distance", p.distance)?;
@@ -204,7 +217,7 @@ impl PyCollisionModel {
         let kin = KinematicsData::new(&m);
         Ok(Self {
             model: m,
-            cmodel: Arc::new(cmodel),
+            cmodel: RwLock::new(Arc::new(cmodel)),
             options,
             obstacles: Mutex::new(Vec::new()),
             scratch: Mutex::new((kin, data)),
@@ -214,7 +227,7 @@ impl PyCollisionModel {
     /// Names of the collision shapes.
     #[getter]
     fn shape_names(&self) -> Vec<String> {
-        self.cmodel
+        self.cm()
             .shapes()
             .iter()
             .map(|s| s.name().to_string())
@@ -224,7 +237,7 @@ impl PyCollisionModel {
     /// Number of candidate shape pairs.
     #[getter]
     fn npairs(&self) -> usize {
-        self.cmodel.pairs().len()
+        self.cm().pairs().len()
     }
 
     /// Names of the world obstacles, in id order.
@@ -284,6 +297,36 @@ impl PyCollisionModel {
         Ok(list.len() - 1)
     }
 
+    /// The relative tolerance of the distance queries (``distances``, ``world_distances``,
+    /// ``link_pair_distances``): 1e-8 unless ``set_distance_tolerance`` changed it.
+    #[getter]
+    fn distance_tolerance(&self) -> f64 {
+        self.cm().distance_tolerance()
+    }
+
+    /// Sets the relative tolerance ``tol`` at which the distance queries stop their GJK and EPA
+    /// iterations: a reported distance ``d`` is within ``tol * max(|d|, 1e-3)`` m above the
+    /// exact one (spheres against primitives and cylinders side by side are exact whatever
+    /// ``tol``). The default is 1e-8; coal's default, 1e-6, is faster and less precise. Raises
+    /// ``CollisionError`` unless ``tol`` is between 1e-12 and 1e-3 (the tolerance is then
+    /// unchanged). The collision queries (``any_collision``, ``collisions``) do not use it.
+    ///
+    /// >>> robot = kinetree.Model.from_urdf("tests/data/reference/urdf/panda_collision.urdf")
+    /// >>> cm = kinetree.CollisionModel(robot)
+    /// >>> cm.set_distance_tolerance(1e-6)
+    /// >>> cm.distance_tolerance
+    /// 1e-06
+    fn set_distance_tolerance(&self, tol: f64) -> PyResult<()> {
+        let mut cmodel = self
+            .cmodel
+            .write()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut changed = CollisionModel::clone(&cmodel);
+        changed.set_distance_tolerance(tol).map_err(py_err)?;
+        *cmodel = Arc::new(changed);
+        Ok(())
+    }
+
     /// Removes every world obstacle.
     fn clear_obstacles(&self) -> PyResult<()> {
         self.scratch
@@ -313,14 +356,15 @@ impl PyCollisionModel {
             }
             Some(n) => {
                 let obstacles = self.obstacles()?;
+                let cmodel = self.cm();
                 let mut out = vec![false; n];
                 let result = py.detach(|| {
                     out.par_iter_mut().enumerate().try_for_each_init(
                         || self.new_data(&obstacles),
                         |state, (i, hit)| {
                             let (k, d) = state.as_mut().map_err(|e| (i, e.to_string()))?;
-                            d.compute_placements(&self.model, &self.cmodel, k, q.state(i))
-                                .and_then(|()| any_collision(&self.cmodel, d))
+                            d.compute_placements(&self.model, &cmodel, k, q.state(i))
+                                .and_then(|()| any_collision(&cmodel, d))
                                 .map(|h| *hit = h)
                                 .map_err(|e| (i, e.to_string()))
                         },

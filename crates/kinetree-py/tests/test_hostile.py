@@ -155,6 +155,7 @@ def baselines(model, ws, vox, ik, cm):
         ("CollisionModel.distances", cm.distances, [q], {}),
         ("CollisionModel.world_distances", cm.world_distances, [q], {}),
         ("CollisionModel.link_pair_distances", cm.link_pair_distances, [q], {}),
+        ("CollisionModel.set_distance_tolerance", cm.set_distance_tolerance, [1e-8], {}),
     ]
 
 

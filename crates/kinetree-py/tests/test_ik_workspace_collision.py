@@ -146,6 +146,30 @@ def test_link_pair_distances_match_coal():
     assert checked > 100
 
 
+def test_distance_tolerance():
+    model = kinetree.Model.from_urdf(str(REFERENCE / "urdf" / "panda_collision.urdf"))
+    cm = kinetree.CollisionModel(model)
+    assert cm.distance_tolerance == 1e-8
+    q = model.random_configuration(1, seed=7)[0]
+    fine = [d["distance"] for d in cm.distances(q)]
+    for bad in (0.0, 1e-13, 1e-2, float("nan"), float("inf"), -1e-8):
+        with pytest.raises(kinetree.CollisionError, match="distance tolerance"):
+            cm.set_distance_tolerance(bad)
+        assert cm.distance_tolerance == 1e-8
+    cm.set_distance_tolerance(1e-6)
+    assert cm.distance_tolerance == 1e-6
+    coarse = [d["distance"] for d in cm.distances(q)]
+    # Both are upper bounds of the exact distance d*, with 0 <= d - d* <= tol * max(|d|, 1 mm).
+    changed = 0
+    for f, c in zip(fine, coarse):
+        scale = max(abs(f), 1e-3)
+        assert -1e-8 * scale - 1e-12 <= c - f <= 1e-6 * scale + 1e-12
+        changed += c != f
+    assert changed > 0
+    cm.set_distance_tolerance(1e-8)
+    assert [d["distance"] for d in cm.distances(q)] == fine
+
+
 def test_collision_queries(panda):
     model = kinetree.Model.from_urdf(str(REFERENCE / "urdf" / "panda_collision.urdf"))
     cm = kinetree.CollisionModel(model)
