@@ -246,3 +246,88 @@ fn a_batch_names_the_first_state_that_overflows() {
         }
     }
 }
+
+/// The batched FK and Jacobian accept and refuse a quaternion near the tolerance exactly as the
+/// one-state functions do, on every instruction set.
+#[test]
+fn a_batch_checks_quaternions_as_the_one_state_call() {
+    use kinetree_kinematics::batch::{
+        KinematicsBatch, Simd, forward_kinematics_batch, frame_jacobian_batch,
+    };
+    use kinetree_kinematics::spatial::{Motion, Se3};
+    use kinetree_kinematics::{ReferenceFrame, compute_frame_jacobian};
+    let model = floating_ball();
+    let (nq, nl, nv) = (model.nq(), model.links().len(), model.nv());
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let unit = [
+        0.1, 0.2, 0.3, 0.0, 0.0, s, s, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ];
+    // Scaled by 1 + f·tol: the norm is 1 + f·tol, accepted for f < 1 and refused beyond.
+    let scaled = |root: f64, ball: f64| {
+        let mut q = unit;
+        for x in &mut q[3..7] {
+            *x *= 1.0 + root * QUATERNION_NORM_TOLERANCE;
+        }
+        for x in &mut q[10..14] {
+            *x *= 1.0 + ball * QUATERNION_NORM_TOLERANCE;
+        }
+        q
+    };
+    let hand = FrameId::find(&model, "hand").unwrap();
+    let mut data = KinematicsData::new(&model);
+    let mut one = vec![Motion::ZERO; nv];
+    for simd in [Simd::Portable, Simd::Avx2, Simd::Avx512] {
+        let mut batch = KinematicsBatch::with_simd(&model, simd);
+        // Accepted: norms inside the tolerance, on either side of the fast test's 0.95·tol.
+        let fine = [scaled(0.0, 0.0), scaled(0.9, -0.99), scaled(-0.99, 0.97)].concat();
+        let n = 3;
+        let mut links = vec![Se3::IDENTITY; n * nl];
+        forward_kinematics_batch(&model, &mut batch, &fine, &mut links, None).unwrap();
+        let mut jac = vec![Motion::ZERO; n * nv];
+        frame_jacobian_batch(
+            &model,
+            &mut batch,
+            &fine,
+            hand,
+            ReferenceFrame::World,
+            &mut jac,
+        )
+        .unwrap();
+        for k in 0..n {
+            let qk = &fine[k * nq..(k + 1) * nq];
+            forward_kinematics(&model, &mut data, qk).unwrap();
+            assert_eq!(
+                &links[k * nl..(k + 1) * nl],
+                data.world_from_link(),
+                "{simd:?} {k}"
+            );
+            compute_frame_jacobian(&model, &mut data, qk, hand, ReferenceFrame::World, &mut one)
+                .unwrap();
+            assert_eq!(&jac[k * nv..(k + 1) * nv], &one[..], "{simd:?} {k}");
+        }
+        // Refused: the ball joint of state 2 just beyond the tolerance (state 1 is fine).
+        let bad = [scaled(0.0, 0.0), scaled(0.5, 0.5), scaled(0.0, 1.01)].concat();
+        for result in [
+            forward_kinematics_batch(&model, &mut batch, &bad, &mut links, None),
+            frame_jacobian_batch(
+                &model,
+                &mut batch,
+                &bad,
+                hand,
+                ReferenceFrame::World,
+                &mut jac,
+            ),
+        ] {
+            match result {
+                Err(KinematicsError::InBatchState { index: 2, source }) => match *source {
+                    KinematicsError::NonUnitQuaternion { joint, norm } => {
+                        assert_eq!(joint, "ball", "{simd:?}");
+                        assert!((norm - 1.0 - 1.01 * QUATERNION_NORM_TOLERANCE).abs() < 1e-12);
+                    }
+                    other => panic!("{simd:?}: expected NonUnitQuaternion, got {other:?}"),
+                },
+                other => panic!("{simd:?}: expected state 2 to be refused, got {other:?}"),
+            }
+        }
+    }
+}
