@@ -7,13 +7,52 @@ use crate::joint::JointModel;
 use kinetree_model::Model;
 use kinetree_model::spatial::lanes::{LMotion, LSe3, LVec3, Lanes};
 use kinetree_model::spatial::{Motion, Se3};
+use std::ops::{Index, IndexMut};
+
+/// A lane value on a 64-byte boundary. Every lane type's size is a multiple of 64 bytes at 4 and
+/// 8 lanes, so this adds no padding.
+#[derive(Clone, Copy, Debug)]
+#[repr(align(64))]
+struct Aligned<T>(T);
+
+/// A buffer of lane values whose elements start on cache-line boundaries, so the sweeps' 8-lane
+/// loads and stores never straddle two lines (a `Vec` of them is only 8-byte aligned).
+#[derive(Clone, Debug)]
+struct LaneVec<T>(Vec<Aligned<T>>);
+
+impl<T: Clone> LaneVec<T> {
+    fn new(x: T, n: usize) -> Self {
+        Self(vec![Aligned(x); n])
+    }
+}
+
+impl<T> Default for LaneVec<T> {
+    fn default() -> Self {
+        Self(Vec::new())
+    }
+}
+
+impl<T> Index<usize> for LaneVec<T> {
+    type Output = T;
+    #[inline(always)]
+    fn index(&self, i: usize) -> &T {
+        &self.0[i].0
+    }
+}
+
+impl<T> IndexMut<usize> for LaneVec<T> {
+    #[inline(always)]
+    fn index_mut(&mut self, i: usize) -> &mut T {
+        &mut self.0[i].0
+    }
+}
 
 /// The per-body and per-link lane buffers of one lane width.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct LaneBuffers<const L: usize> {
-    world_from_body: Vec<LSe3<L>>,
-    world_from_link: Vec<LSe3<L>>,
-    columns: Vec<LMotion<L>>,
+    world_from_body: LaneVec<LSe3<L>>,
+    world_from_link: LaneVec<LSe3<L>>,
+    columns: LaneVec<LMotion<L>>,
     /// The Jacobian columns the frame's path writes (the others are zero in every state), and
     /// the same as a mask over the `nv` columns.
     path_columns: Vec<usize>,
@@ -23,9 +62,9 @@ pub(crate) struct LaneBuffers<const L: usize> {
 impl<const L: usize> LaneBuffers<L> {
     pub(crate) fn new(model: &Model) -> Self {
         Self {
-            world_from_body: vec![LSe3::splat(&Se3::IDENTITY); model.nbodies()],
-            world_from_link: vec![LSe3::splat(&Se3::IDENTITY); model.links().len()],
-            columns: vec![LMotion::ZERO; model.nv()],
+            world_from_body: LaneVec::new(LSe3::splat(&Se3::IDENTITY), model.nbodies()),
+            world_from_link: LaneVec::new(LSe3::splat(&Se3::IDENTITY), model.links().len()),
+            columns: LaneVec::new(LMotion::ZERO, model.nv()),
             path_columns: Vec::with_capacity(model.nv()),
             on_path: vec![false; model.nv()],
         }
@@ -47,7 +86,7 @@ pub(crate) struct Shape<'a> {
 #[inline(always)]
 fn body_sweep<const L: usize>(
     shape: &Shape<'_>,
-    world: &mut [LSe3<L>],
+    world: &mut LaneVec<LSe3<L>>,
     q: &[f64],
     idx: &[usize; L],
 ) {
@@ -61,7 +100,7 @@ fn body_sweep<const L: usize>(
 #[inline(always)]
 fn body_sweep_to<const L: usize>(
     shape: &Shape<'_>,
-    world: &mut [LSe3<L>],
+    world: &mut LaneVec<LSe3<L>>,
     q: &[f64],
     idx: &[usize; L],
     target: usize,
@@ -79,7 +118,7 @@ fn body_sweep_to<const L: usize>(
 #[inline(always)]
 fn place<const L: usize>(
     shape: &Shape<'_>,
-    world: &mut [LSe3<L>],
+    world: &mut LaneVec<LSe3<L>>,
     q: &[f64],
     idx: &[usize; L],
     i: usize,
