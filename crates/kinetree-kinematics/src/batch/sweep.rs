@@ -176,6 +176,8 @@ pub(crate) fn forward_kinematics<const L: usize>(
 ) -> Option<usize> {
     let model = shape.model;
     let (nl, nf) = (model.links().len(), model.frames().len());
+    // The links' lane placements are kept only for the frames, which are placed from them.
+    let keep_links = frames.is_some();
     let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
@@ -190,7 +192,9 @@ pub(crate) fn forward_kinematics<const L: usize>(
                 bufs.world_from_body[b].mul_const(body_from_link)
             };
             probe += non_finite(&x.translation);
-            bufs.world_from_link[l] = x;
+            if keep_links {
+                bufs.world_from_link[l] = x;
+            }
             for k in 0..count {
                 links[(start + k) * nl + l] = x.lane(k);
             }
