@@ -5,8 +5,9 @@ use crate::error::{DynamicsError, check_output, check_vector};
 use crate::external::ExternalForces;
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::RotationForm;
 use kinetree_kinematics::spatial::axis::cross_unit;
-use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
+use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::{Force, Motion, Se3};
 
 /// Which output buffer a sweep writes.
@@ -149,7 +150,11 @@ pub(crate) fn check_inputs(
 ) -> Result<(), DynamicsError> {
     data.check_model(model)?;
     check_vector("q", q, model.nq())?;
-    kinetree_kinematics::configuration::check_configuration(model, q)?;
+    // The configuration check repeats the length and finiteness checks just made; what it adds
+    // is the quaternions' norms.
+    if !model.quaternion_blocks().is_empty() {
+        kinetree_kinematics::configuration::check_configuration(model, q)?;
+    }
     if let Some(v) = v {
         check_vector("v", v, model.nv())?;
     }
@@ -205,6 +210,7 @@ fn sweep_kernel<const VEL: bool, const ACC: bool>(
     let kin = data.kinematics.body_buffers_mut();
     kin.q.copy_from_slice(q);
     let joint_models = kin.joint_models;
+    let placement_rot = &data.placement_rot;
     for i in 1..bodies.len() {
         let b = &bodies[i];
         let jm = &joint_models[i];
@@ -226,17 +232,18 @@ fn sweep_kernel<const VEL: bool, const ACC: bool>(
         };
         let scalar = |s: &[f64]| if s.is_empty() { 0.0 } else { s[b.idx_v] };
         let (qd, qdd) = (scalar(v), scalar(a));
-        // A revolute joint whose placement does not rotate turns about its axis only: its
-        // rotation has four entries that are not 0 or 1 (see `AxisTurn`).
-        let turn = b.placement.rotation == DMat3::IDENTITY;
+        // A revolute joint whose placement does not rotate, or rotates about the joint's own
+        // axis, turns about that axis only: its rotation has four entries that are not 0 or 1
+        // (see `AxisTurn`).
+        let placement = &placement_rot[i];
         let (vi, ai) = match jm {
-            JointModel::RevoluteX if turn => {
+            JointModel::RevoluteX if turns_about(placement, 0) => {
                 body::<VEL, ACC, 0, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
-            JointModel::RevoluteY if turn => {
+            JointModel::RevoluteY if turns_about(placement, 1) => {
                 body::<VEL, ACC, 1, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
-            JointModel::RevoluteZ if turn => {
+            JointModel::RevoluteZ if turns_about(placement, 2) => {
                 body::<VEL, ACC, 2, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
             }
             JointModel::RevoluteX => {
@@ -311,7 +318,7 @@ fn sweep_kernel<const VEL: bool, const ACC: bool>(
         if b.parent != 0 {
             let x = &parent_from_body[i];
             let fp = match jm.axis_index() {
-                Some((k, true)) if b.placement.rotation == DMat3::IDENTITY => match k {
+                Some((k, true)) if turns_about(&data.placement_rot[i], k) => match k {
                     0 => AxisTurn::<0>(x).act_force(&fi),
                     1 => AxisTurn::<1>(x).act_force(&fi),
                     _ => AxisTurn::<2>(x).act_force(&fi),
@@ -332,6 +339,18 @@ fn sweep_kernel<const VEL: bool, const ACC: bool>(
             }
             out[k] += t;
         }
+    }
+}
+
+/// Whether a revolute joint about coordinate axis `k` placed with rotation `placement` turns
+/// about that axis only: the placement does not rotate, or rotates about the same axis (then
+/// the placed rotation's `k` column and row are exactly `e_k`, see [`AxisTurn`]).
+#[inline(always)]
+fn turns_about(placement: &RotationForm, k: usize) -> bool {
+    match placement {
+        RotationForm::Identity => true,
+        RotationForm::Axis { k: j, .. } => *j == k,
+        RotationForm::General(_) => false,
     }
 }
 
