@@ -284,10 +284,11 @@ fn sweep_kernel<const VEL: bool, const ACC: bool>(
             }
         };
         let inertia = &b.inertia;
-        let mut f = inertia.mul_motion(&ai);
-        if VEL {
-            f += vi.cross_force(&inertia.mul_motion(&vi));
-        }
+        let f = if VEL {
+            inertia.rnea_force(&vi, &ai)
+        } else {
+            inertia.mul_motion(&ai)
+        };
         kin.body_velocity[i] = vi;
         data.acceleration[i] = ai;
         data.force[i] = f;

@@ -143,6 +143,22 @@ impl Inertia {
         Force::new(lin, ang)
     }
 
+    /// The net force `I·a + v ×* (I·v)` on a body moving with twist `v` and acceleration `a`
+    /// (the body force of the recursive Newton–Euler algorithm), in fewer operations than the
+    /// two products and the cross product: with the linear momentum `p = m·(v + ω × c)`, the
+    /// gyroscopic term `v ×* (I·v)` is `(ω × p, c × (ω × p) + ω × (I_c·ω))`.
+    #[inline]
+    #[must_use]
+    pub fn rnea_force(&self, v: &Motion, a: &Motion) -> Force {
+        let w = v.angular;
+        let p = (v.linear + w.cross(self.com)) * self.mass;
+        let lin = (a.linear + a.angular.cross(self.com)) * self.mass + w.cross(p);
+        let ang = self.com.cross(lin)
+            + self.rotational.mul_vec3(a.angular)
+            + w.cross(self.rotational.mul_vec3(w));
+        Force::new(lin, ang)
+    }
+
     /// The kinetic energy `½ vᵀ I v` of a body moving with twist `v`.
     #[inline]
     #[must_use]
@@ -233,6 +249,23 @@ mod tests {
             for c in 0..6 {
                 assert!((m[r][c] - m[c][r]).abs() < 1e-15);
             }
+        }
+    }
+
+    #[test]
+    fn rnea_force_is_the_momentum_rate() {
+        let i = sample();
+        for (v, a) in [
+            (
+                [0.3, -0.1, 0.7, 1.2, -0.4, 0.5],
+                [-0.8, 0.2, 0.1, 0.3, 0.9, -1.4],
+            ),
+            ([5.0, 2.0, -3.0, -7.0, 4.0, 6.0], [0.0; 6]),
+        ] {
+            let (v, a) = (Motion::from_array(v), Motion::from_array(a));
+            let want = i.mul_motion(&a) + v.cross_force(&i.mul_motion(&v));
+            let got = i.rnea_force(&v, &a);
+            assert!(got.abs_diff_eq(&want, 1e-13), "{got:?} against {want:?}");
         }
     }
 

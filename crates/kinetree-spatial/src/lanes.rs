@@ -658,6 +658,26 @@ pub fn rigid_mul_motion<const L: usize>(inertia: &Inertia, v: &LMotion<L>) -> LF
     }
 }
 
+/// The net force `inertia·a + v ×* (inertia·v)` of a constant rigid-body inertia (as
+/// [`Inertia::rnea_force`]).
+#[inline(always)]
+#[must_use]
+pub fn rigid_rnea_force<const L: usize>(
+    inertia: &Inertia,
+    v: &LMotion<L>,
+    a: &LMotion<L>,
+) -> LForce<L> {
+    let w = &v.angular;
+    let p = (v.linear + w.cross_const(inertia.com)).scale_by(inertia.mass);
+    let lin = (a.linear + a.angular.cross_const(inertia.com)).scale_by(inertia.mass) + w.cross(&p);
+    LForce {
+        linear: lin,
+        angular: LVec3::const_cross(inertia.com, &lin)
+            + sym_mul_vec(&inertia.rotational, &a.angular)
+            + w.cross(&sym_mul_vec(&inertia.rotational, w)),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -711,6 +731,15 @@ mod tests {
             assert_eq!(
                 rigid_mul_motion(&rigid, &lm).lane(l),
                 rigid.mul_motion(&ms[l])
+            );
+            let lm2 = LMotion {
+                linear: lf.angular,
+                angular: lf.linear,
+            };
+            let m2 = Motion::new(fs[l].angular, fs[l].linear);
+            assert_eq!(
+                rigid_rnea_force(&rigid, &lm, &lm2).lane(l),
+                rigid.rnea_force(&ms[l], &m2)
             );
             let v = lm.linear;
             let c = DVec3::new(0.3, -0.7, 1.1);

@@ -7,7 +7,7 @@ use kinetree_kinematics::batch::{block_states, body_transform, gather};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes, rigid_mul_motion};
+use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes, rigid_rnea_force};
 
 /// The per-body lane buffers of RNEA for one lane width.
 #[derive(Clone, Debug, Default)]
@@ -137,8 +137,7 @@ pub(crate) fn rnea<const L: usize>(
                     (vi, ai)
                 }
             };
-            let mut f = rigid_mul_motion(&b.inertia, &ai);
-            f += vi.cross_force(&rigid_mul_motion(&b.inertia, &vi));
+            let f = rigid_rnea_force(&b.inertia, &vi, &ai);
             bufs.velocity[i] = vi;
             bufs.acceleration[i] = ai;
             bufs.force[i] = f;
