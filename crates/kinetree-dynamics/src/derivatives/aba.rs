@@ -87,8 +87,8 @@ fn compute<'d>(
 ) -> Result<AbaDerivatives<'d>, DynamicsError> {
     check_inputs(model, &data.dynamics, q, Some(v), None)?;
     check_vector("tau", tau, model.nv())?;
-    kinetree_kinematics::with_avx2!(
-        kernel,
+    kinetree_kinematics::with_simd!(
+        kernel[],
         (
             model: &Model = model,
             data: &mut DerivativesData = data,
@@ -115,8 +115,8 @@ fn compute<'d>(
     })
 }
 
-/// The sweeps and solves of [`compute`], compiled for AVX2 where the CPU has it (no FMA, no
-/// reordering: the results are the portable build's bit for bit).
+/// The sweeps and solves of [`compute`], compiled for AVX-512 or AVX2 where the CPU has it (no
+/// FMA, no reordering: the results are the portable build's bit for bit).
 #[inline(always)]
 fn kernel(
     model: &Model,

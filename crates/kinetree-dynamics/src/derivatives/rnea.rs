@@ -1,7 +1,7 @@
 //! Derivatives of inverse dynamics and of the generalized gravity.
 
 use super::data::{Blocks, DerivativesData, RneaDerivatives, WorldInertia, skew};
-use crate::data::{NO_PARENT, sign};
+use crate::data::sign;
 use crate::error::DynamicsError;
 use crate::external::ExternalForces;
 use crate::rnea::check_inputs;
@@ -50,10 +50,10 @@ pub fn rnea_derivatives<'d>(
 ) -> Result<RneaDerivatives<'d>, DynamicsError> {
     check_inputs(model, &data.dynamics, q, Some(v), Some(a))?;
     let mut dq = core::mem::take(&mut data.dtau_dq);
-    // In 256-bit vectors where the CPU has them (the results are the portable build's bit for
+    // In AVX-512 or AVX2 where the CPU has them (the results are the portable build's bit for
     // bit).
-    let bounded = kinetree_kinematics::with_avx2!(
-        sweep::<true>,
+    let bounded = kinetree_kinematics::with_simd!(
+        sweep_full[],
         (
             model: &Model = model,
             data: &mut DerivativesData = data,
@@ -89,10 +89,10 @@ pub fn rnea_derivatives_with_external_forces<'d>(
     check_inputs(model, &data.dynamics, q, Some(v), Some(a))?;
     fext.check_model(model)?;
     let mut dq = core::mem::take(&mut data.dtau_dq);
-    // In 256-bit vectors where the CPU has them (the results are the portable build's bit for
+    // In AVX-512 or AVX2 where the CPU has them (the results are the portable build's bit for
     // bit).
-    let bounded = kinetree_kinematics::with_avx2!(
-        sweep::<true>,
+    let bounded = kinetree_kinematics::with_simd!(
+        sweep_full[],
         (
             model: &Model = model,
             data: &mut DerivativesData = data,
@@ -200,6 +200,20 @@ fn variation_block(y: &WorldInertia, v: &Motion, h: &Force) -> DMat3 {
 
 /// The sweeps. With `FULL`, `∂τ/∂v` and `∂τ/∂a` are written too (else only `∂τ/∂q`, into `dq`).
 /// True when every matrix entry written is proven finite (see [`backward`]).
+/// [`sweep`] with every matrix, to be compiled for the instruction set it runs with.
+#[inline(always)]
+fn sweep_full(
+    model: &Model,
+    data: &mut DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    fext: Option<&ExternalForces>,
+    dq: &mut [f64],
+) -> bool {
+    sweep::<true>(model, data, q, v, a, fext, dq)
+}
+
 #[inline(always)]
 pub(super) fn sweep<const FULL: bool>(
     model: &Model,
@@ -428,13 +442,14 @@ pub(super) fn backward<const FULL: bool>(
             data.df_dq[d] = fq;
             right += abs2(fq.linear, fq.angular);
         }
-        // Rows of this joint, columns of its strict ancestors.
-        let first_ancestor = if b.nv > 0 {
-            data.dynamics.dof_parent[r0]
+        // Rows of this joint, columns of its strict ancestors (a slice, so the loads of one
+        // column do not wait for the previous column's parent index).
+        let ancestors = if b.nv > 0 {
+            data.tree.ancestors(r0)
         } else {
-            NO_PARENT
+            &[]
         };
-        if first_ancestor != NO_PARENT {
+        if !ancestors.is_empty() {
             for r in r0..r1 {
                 let s = data.s[r];
                 let ys = y.mul(&s);
@@ -448,8 +463,7 @@ pub(super) fn backward<const FULL: bool>(
                     + abs2(bs.linear, bs.angular)
                     + abs2(es.linear, es.angular);
                 let row = r * nv;
-                let mut j = first_ancestor;
-                while j != NO_PARENT {
+                for &j in ancestors {
                     let sj = &data.s[j];
                     let mut x = ys.dot(&data.da_dq[j]) + bs.dot(&data.dv_dq[j]);
                     if has_external {
@@ -460,7 +474,6 @@ pub(super) fn backward<const FULL: bool>(
                         data.dtau_dv[row + j] = ys.dot(&data.da_dv[j]) + bs.dot(sj);
                         data.dtau_da[row + j] = ys.dot(sj);
                     }
-                    j = data.dynamics.dof_parent[j];
                 }
             }
         }
