@@ -121,8 +121,35 @@ fn axis_momentum<const L: usize>(axis: (usize, bool), y: &LOrigin<L>) -> LForce<
     }
 }
 
+/// Writes the block's lane matrices `m` (`nn` entries of `L` lanes) into the first
+/// `out.len() / nn` states of `out` (each `nn` numbers).
+///
+/// Entry by entry, each lane to its state: one whole-lane load per entry (a lane-by-lane copy
+/// reads one number per `L`-wide load, which the compiler turns into gathers).
+#[inline(always)]
+fn store_block<const L: usize>(m: &[Lanes<L>], out: &mut [f64], nn: usize) {
+    let count = out.len() / nn;
+    if count == L {
+        for (e, x) in m.iter().enumerate() {
+            for l in 0..L {
+                out[l * nn + e] = x.0[l];
+            }
+        }
+    } else {
+        for l in 0..count {
+            for (o, x) in out[l * nn..(l + 1) * nn].iter_mut().zip(m) {
+                *o = x.0[l];
+            }
+        }
+    }
+}
+
 /// CRBA of the `n` configurations of `q` into `mass_matrix` (`n · nv²`; inputs checked by the
 /// caller), as `crba::compute`.
+///
+/// Returns whether every state's probe (the sum of the entries its sweep wrote, as
+/// `crba::compute`'s) is finite: then every entry is, and the caller need not read the
+/// matrices again.
 #[inline(always)]
 pub(crate) fn crba<const L: usize>(
     bufs: &mut CrbaLanes<L>,
@@ -131,7 +158,8 @@ pub(crate) fn crba<const L: usize>(
     q: &[f64],
     n: usize,
     mass_matrix: &mut [f64],
-) {
+) -> bool {
+    let mut finite = true;
     let (nq, nv) = (model.nq(), model.nv());
     let nn = nv * nv;
     let bodies = model.bodies();
@@ -154,6 +182,7 @@ pub(crate) fn crba<const L: usize>(
         let m = &mut bufs.mass;
         let mut f = [LForce::ZERO; 6];
         let mut col = [Lanes::ZERO; 6];
+        let mut probe = Lanes::ZERO;
         for i in (1..bodies.len()).rev() {
             let b = &bodies[i];
             let (iv, ni) = (b.idx_v, b.nv);
@@ -169,6 +198,7 @@ pub(crate) fn crba<const L: usize>(
                     for k in 0..ni {
                         project_force(jm, &f[k], &mut col);
                         for l in k..ni {
+                            probe += col[l];
                             m[(iv + l) * nv + iv + k] = col[l];
                             m[(iv + k) * nv + iv + l] = col[l];
                         }
@@ -179,7 +209,9 @@ pub(crate) fn crba<const L: usize>(
             if ni == 1 {
                 let mut fk = f0;
                 if let Some(axis) = axis {
-                    m[iv * nv + iv] = project_axis(axis, &fk);
+                    let d = project_axis(axis, &fk);
+                    probe += d;
+                    m[iv * nv + iv] = d;
                 }
                 let mut j = i;
                 loop {
@@ -193,6 +225,7 @@ pub(crate) fn crba<const L: usize>(
                     match joint_models[j].axis_index() {
                         Some(axis) => {
                             let x = project_axis(axis, &fk);
+                            probe += x;
                             m[jv * nv + iv] = x;
                             m[iv * nv + jv] = x;
                         }
@@ -200,6 +233,7 @@ pub(crate) fn crba<const L: usize>(
                             let nj = bodies[j].nv;
                             project_force(&joint_models[j], &fk, &mut col);
                             for l in 0..nj {
+                                probe += col[l];
                                 m[(jv + l) * nv + iv] = col[l];
                                 m[iv * nv + jv + l] = col[l];
                             }
@@ -221,6 +255,7 @@ pub(crate) fn crba<const L: usize>(
                     for k in 0..ni {
                         project_force(&joint_models[j], &f[k], &mut col);
                         for l in 0..nj {
+                            probe += col[l];
                             m[(jv + l) * nv + iv + k] = col[l];
                             m[(iv + k) * nv + jv + l] = col[l];
                         }
@@ -244,13 +279,11 @@ pub(crate) fn crba<const L: usize>(
         if data.has_joint_terms {
             for k in 0..nv {
                 m[k * nv + k] += Lanes::splat(data.armature[k]);
+                probe += m[k * nv + k];
             }
         }
-        for l in 0..count {
-            let out = &mut mass_matrix[(start + l) * nn..(start + l + 1) * nn];
-            for (o, x) in out.iter_mut().zip(m.iter()) {
-                *o = x.0[l];
-            }
-        }
+        store_block(m, &mut mass_matrix[start * nn..(start + count) * nn], nn);
+        finite &= probe.0[..count].iter().all(|p| p.is_finite());
     }
+    finite
 }

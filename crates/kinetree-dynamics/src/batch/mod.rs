@@ -332,11 +332,16 @@ pub fn crba_batch(
             .map_err(in_state(k))?;
     }
     let data = &batch.data;
-    kinetree_kinematics::simd_dispatch!(
+    let finite = kinetree_kinematics::simd_dispatch!(
         batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, crba_kernel,
         (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, n: usize = n,
-         mass_matrix: &mut [f64] = mass_matrix) -> ()
+         mass_matrix: &mut [f64] = mass_matrix) -> bool
     );
+    // Finite probes prove every entry finite; otherwise an entry is not, or finite entries
+    // overflowed a probe's sum.
+    if finite {
+        return Ok(());
+    }
     if let Some(i) = mass_matrix.iter().position(|x| !x.is_finite()) {
         // The one-state function names the joint that overflowed.
         let k = i / nn;
@@ -353,6 +358,6 @@ fn crba_kernel<const L: usize>(
     q: &[f64],
     n: usize,
     mass_matrix: &mut [f64],
-) {
-    crba::crba(&mut bufs.crba, model, data, q, n, mass_matrix);
+) -> bool {
+    crba::crba(&mut bufs.crba, model, data, q, n, mass_matrix)
 }
