@@ -334,3 +334,66 @@ fn a_bad_state_is_named_by_its_index_and_bad_lengths_are_errors() {
     let err = rnea_batch(&model, &mut wrong, &q, &v, &a, &mut tau).unwrap_err();
     assert!(matches!(err, DynamicsError::DataMismatch { .. }), "{err:?}");
 }
+
+/// The batched CRBA's overflow check (a probe summed in the lanes): a state whose mass matrix
+/// overflows is named by its index, on every lane width and in a partly filled block, and
+/// finite entries whose sum overflows the probe are still accepted.
+#[test]
+fn batched_crba_names_an_overflowing_state_and_accepts_finite_huge_entries() {
+    // A turn about z carrying a 1e150 kg slider along x: M₀₀ = m·x², which overflows at x = 1e80.
+    let slider = Model::from_urdf_str(
+        r#"<robot name="slider"><link name="a"/><link name="b"/>
+          <link name="c"><inertial><mass value="1e150"/>
+            <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+          <joint name="turn" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>
+          <joint name="slide" type="prismatic"><parent link="b"/><child link="c"/><axis xyz="1 0 0"/>
+            <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+        </robot>"#,
+        kinetree_dynamics::model::RootJoint::Fixed,
+    )
+    .unwrap();
+    // Two prismatic branches of 1.5e308 kg each: the diagonal is finite, its sum is not.
+    let branches = Model::from_urdf_str(
+        r#"<robot name="r"><link name="a"/>
+          <link name="b"><inertial><mass value="1.5e308"/>
+            <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+          <link name="c"><inertial><mass value="1.5e308"/>
+            <inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>
+          <joint name="j1" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/>
+            <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+          <joint name="j2" type="prismatic"><parent link="a"/><child link="c"/><axis xyz="0 1 0"/>
+            <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+        </robot>"#,
+        kinetree_dynamics::model::RootJoint::Fixed,
+    )
+    .unwrap();
+    for simd in SIMD {
+        for (n, bad) in [(3, 2), (9, 6), (9, 8)] {
+            let mut q: Vec<f64> = (0..n).flat_map(|k| [0.1 * k as f64, 0.5]).collect();
+            q[2 * bad + 1] = 1e80;
+            let mut batch = DynamicsBatch::with_options(&slider, JointTerms::Ignored, simd);
+            let mut mass = vec![0.0; n * 4];
+            let err = crba_batch(&slider, &mut batch, &q, &mut mass).unwrap_err();
+            assert!(
+                matches!(&err, DynamicsError::InBatchState { index, source } if *index == bad && matches!(&**source, DynamicsError::Overflow { joint, .. } if joint == "turn")),
+                "{simd:?} n={n}: {err:?}"
+            );
+            q[2 * bad + 1] = 0.5;
+            mass.fill(f64::NAN);
+            crba_batch(&slider, &mut batch, &q, &mut mass).unwrap();
+            let mut data = DynamicsData::new(&slider);
+            for (k, m) in mass.chunks(4).enumerate() {
+                assert_eq!(m, crba(&slider, &mut data, &q[2 * k..2 * k + 2]).unwrap());
+            }
+            assert!(mass[3] == 1e150 && mass[1] == 0.0, "{mass:?}");
+        }
+        let mut batch = DynamicsBatch::with_options(&branches, JointTerms::Ignored, simd);
+        let q = [0.5, -0.5, 0.1, 0.2, -0.3, 0.4];
+        let mut mass = [f64::NAN; 12];
+        crba_batch(&branches, &mut batch, &q, &mut mass).unwrap();
+        assert!(
+            mass.chunks(4).all(|m| m == [1.5e308, 0.0, 0.0, 1.5e308]),
+            "{mass:?}"
+        );
+    }
+}
