@@ -81,6 +81,13 @@ impl PyModel {
         }
     }
 
+    /// How many links users see: the length of [`PyModel::links`], without building the list.
+    pub(crate) fn nlinks_user(&self) -> usize {
+        self.user_links
+            .as_ref()
+            .map_or(self.model.links().len(), Vec::len)
+    }
+
     /// Reads a configuration argument (`(nq,)` or `(N, nq)`).
     pub(crate) fn q(&self, obj: &Bound<'_, PyAny>, family: Family) -> PyResult<States> {
         states(obj, "q", self.model.nq(), family)
@@ -296,7 +303,7 @@ impl PyModel {
             self.model.name(),
             self.model.nq(),
             self.model.nv(),
-            self.links().len()
+            self.nlinks_user()
         )
     }
 
@@ -322,7 +329,7 @@ impl PyModel {
     /// links are not counted).
     #[getter]
     fn nlinks(&self) -> usize {
-        self.links().len()
+        self.nlinks_user()
     }
 
     /// ``"fixed"`` or ``"floating"``: how the root link is attached to the world.
