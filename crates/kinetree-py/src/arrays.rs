@@ -122,6 +122,39 @@ fn count_of(shape: &[usize], name: &str, width: usize, family: Family) -> PyResu
     }
 }
 
+/// Refuses an array (anything with a numpy `dtype`) whose numbers are not real: numpy would drop
+/// the imaginary part of complex numbers with only a warning (and read text or objects).
+/// `what` completes "`name` must be …".
+pub(crate) fn real_dtype(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+    what: &str,
+    family: Family,
+) -> PyResult<()> {
+    if let Ok(kind) = obj
+        .getattr(pyo3::intern!(obj.py(), "dtype"))
+        .and_then(|d| d.getattr(pyo3::intern!(obj.py(), "kind")))
+        .and_then(|k| k.extract::<String>())
+        && !matches!(kind.as_str(), "f" | "i" | "u")
+    {
+        return Err(family.err(format!("{name} must be {what}; got dtype kind {kind:?}")));
+    }
+    Ok(())
+}
+
+/// `N` real numbers (a sequence or an array of shape `(N,)`), refused when complex (see
+/// [`real_dtype`]).
+pub(crate) fn reals<const N: usize>(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+    family: Family,
+) -> PyResult<[f64; N]> {
+    let what = format!("{N} real numbers");
+    real_dtype(obj, name, &what, family)?;
+    obj.extract()
+        .map_err(|_| family.err(format!("{name} must be {what}")))
+}
+
 /// The values and stack size of an argument that is not a C-contiguous float64 ndarray (a list,
 /// an integer array, a strided view …), converted by numpy.
 fn converted(
@@ -130,19 +163,12 @@ fn converted(
     width: usize,
     family: Family,
 ) -> PyResult<(Vec<f64>, Option<usize>)> {
-    // numpy would drop the imaginary part of complex numbers (and read text or objects): only
-    // real numbers convert.
-    if let Ok(kind) = obj
-        .getattr(pyo3::intern!(obj.py(), "dtype"))
-        .and_then(|d| d.getattr(pyo3::intern!(obj.py(), "kind")))
-        .and_then(|k| k.extract::<String>())
-        && !matches!(kind.as_str(), "f" | "i" | "u")
-    {
-        return Err(family.err(format!(
-            "{name} must be a float64 array of shape {}; got dtype kind {kind:?}",
-            expected(width)
-        )));
-    }
+    real_dtype(
+        obj,
+        name,
+        &format!("a float64 array of shape {}", expected(width)),
+        family,
+    )?;
     let array = obj
         .extract::<PyArrayLikeDyn<'_, f64, AllowTypeChange>>()
         .map_err(|e| {

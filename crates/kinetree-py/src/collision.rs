@@ -143,6 +143,7 @@ impl PyCollisionModel {
 
 /// A pose of shape (4, 4).
 fn pose(obj: &Bound<'_, PyAny>) -> PyResult<Se3> {
+    crate::arrays::real_dtype(obj, "pose", "a float64 array of shape (4, 4)", F)?;
     let array = obj
         .extract::<PyArrayLikeDyn<'_, f64, AllowTypeChange>>()
         .map_err(|e| {
@@ -263,9 +264,15 @@ impl PyCollisionModel {
         &self,
         name: String,
         kind: &str,
-        size: Vec<f64>,
+        size: &Bound<'_, PyAny>,
         pose: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
+        let what =
+            "a sequence of real sizes (box [x, y, z], sphere [r], cylinder or capsule [r, length])";
+        crate::arrays::real_dtype(size, "size", what, F)?;
+        let size: Vec<f64> = size
+            .extract()
+            .map_err(|_| F.err(format!("size must be {what}")))?;
         let geometry = match (kind, size.as_slice()) {
             ("box", &[x, y, z]) => Geometry::Box { size: [x, y, z] },
             ("sphere", &[radius]) => Geometry::Sphere { radius },

@@ -31,6 +31,12 @@ fn goals(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<Goal>, bool)> {
             "{name} must be a pose of shape (4, 4) or a position of shape (3,) (or stacks of them: (N, 4, 4), (N, 3)); {what}"
         ))
     };
+    crate::arrays::real_dtype(
+        obj,
+        name,
+        "a real pose of shape (4, 4) or position of shape (3,)",
+        F,
+    )?;
     let array = obj
         .extract::<PyArrayLikeDyn<'_, f64, AllowTypeChange>>()
         .map_err(|e| {
@@ -79,6 +85,13 @@ fn goals(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<Goal>, bool)> {
         });
     }
     Ok((out, stacked))
+}
+
+/// The six per-axis weights of a target, when given.
+fn six(weights: Option<&Bound<'_, PyAny>>) -> PyResult<Option<[f64; 6]>> {
+    weights
+        .map(|w| crate::arrays::reals::<6>(w, "weights", F))
+        .transpose()
 }
 
 fn target(frame: FrameId, goal: Goal, weights: Option<[f64; 6]>) -> IkTarget {
@@ -367,8 +380,9 @@ impl PyIkSolver {
         frame: &str,
         goal: &Bound<'py, PyAny>,
         q0: Option<&Bound<'py, PyAny>>,
-        weights: Option<[f64; 6]>,
+        weights: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, PyIkReport)> {
+        let weights = six(weights)?;
         let f = self.frame(frame)?;
         let (g, stacked) = goals(goal, "goal")?;
         if stacked {
@@ -390,7 +404,7 @@ impl PyIkSolver {
     ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, PyIkReport)> {
         let mut list = Vec::with_capacity(targets.len());
         for (i, t) in targets.iter().enumerate() {
-            let (frame, goal, weights): (String, Bound<'py, PyAny>, Option<[f64; 6]>) =
+            let (frame, goal, weights): (String, Bound<'py, PyAny>, Option<Bound<'py, PyAny>>) =
                 if let Ok((f, g)) = t.extract::<(String, Bound<'py, PyAny>)>() {
                     (f, g, None)
                 } else {
@@ -404,7 +418,7 @@ impl PyIkSolver {
             if stacked {
                 return Err(F.err(format!("targets[{i}] has a stack of goals; give one")));
             }
-            list.push(target(self.frame(&frame)?, g[0], weights));
+            list.push(target(self.frame(&frame)?, g[0], six(weights.as_ref())?));
         }
         let q0 = self.start(q0)?;
         let (q, report) = self.solve_one(py, &list, &q0)?;
@@ -424,8 +438,9 @@ impl PyIkSolver {
         frame: &str,
         goals: &Bound<'py, PyAny>,
         q0: Option<&Bound<'py, PyAny>>,
-        weights: Option<[f64; 6]>,
+        weights: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyDict>)> {
+        let weights = six(weights)?;
         let f = self.frame(frame)?;
         let (g, _) = self::goals(goals, "goals")?;
         let n = g.len();

@@ -733,6 +733,12 @@ impl PyModel {
 
 /// The numbers given for joint `name` in a dict: a number or a sequence of numbers.
 fn joint_values(v: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<f64>> {
+    crate::arrays::real_dtype(
+        v,
+        &format!("value of joint {name:?}"),
+        "a real number or a sequence of real numbers",
+        Family::Kinematics,
+    )?;
     if let Ok(x) = v.extract::<f64>() {
         return Ok(vec![x]);
     }

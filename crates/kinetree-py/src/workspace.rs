@@ -147,7 +147,8 @@ impl PyReachableSet {
     /// >>> ws = panda.sample_workspace("panda_hand_tcp", samples=20000, seed=0)
     /// >>> 0.8 < ws.max_reach([0, 0, 0.333]) < 1.0
     /// True
-    fn max_reach(&self, base: [f64; 3]) -> PyResult<f64> {
+    fn max_reach(&self, base: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let base = crate::arrays::reals::<3>(base, "base", F)?;
         self.set.max_reach(DVec3::from_array(base)).map_err(py_err)
     }
 
@@ -196,6 +197,7 @@ impl PyVoxelMap {
 
 /// Points of shape ``(3,)`` or ``(n, 3)``.
 fn points(obj: &Bound<'_, PyAny>) -> PyResult<(Vec<DVec3>, bool)> {
+    crate::arrays::real_dtype(obj, "point", "a float64 array of shape (3,) or (n, 3)", F)?;
     let array = obj
         .extract::<PyArrayLikeDyn<'_, f64, AllowTypeChange>>()
         .map_err(|e| {

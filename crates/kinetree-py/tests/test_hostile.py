@@ -34,6 +34,8 @@ def hostile_values(n):
         np.full(n, 5e-324), np.zeros(n, dtype=np.complex128), np.zeros(n, dtype=np.int8),
         np.array(["a"] * n), np.zeros(n, dtype=object), np.zeros((n, n)), np.full((4, 4), NAN),
         np.full((4, 4), 1e308), np.zeros((4, 4)), np.zeros(n)[::2],
+        # Complex numbers (numpy would drop the imaginary parts with only a warning).
+        np.full(n, 0.1 + 1j), np.full(3, 0.1 + 1j), np.full((4, 4), 1j),
         # Files that are not model files.
         str(ROBOTS), "/dev/null", "no/such/file.urdf", str(ROBOTS / "panda_srdf" / "missing.srdf"),
     ]
@@ -183,6 +185,8 @@ def test_the_catalogue_covers_every_public_callable(setup):
     assert not missing, f"add a baseline for {sorted(missing)}"
 
 
+# A complex argument converted with its imaginary part dropped is a silent wrong answer.
+@pytest.mark.filterwarnings("error::numpy.exceptions.ComplexWarning")
 def test_hostile_arguments_raise_or_give_finite_results(setup):
     model = setup[0]
     values = hostile_values(model.nq)
