@@ -42,14 +42,24 @@ pub fn forward_kinematics(
     data: &mut KinematicsData,
     q: &[f64],
 ) -> Result<(), KinematicsError> {
+    body_placements(model, data, q)?;
+    link_placements(model, data);
+    Ok(())
+}
+
+/// Checks the model and `q`, then writes the body placements and checks they are finite: what
+/// [`forward_kinematics`] and the Jacobians without links share.
+pub(crate) fn body_placements(
+    model: &Model,
+    data: &mut KinematicsData,
+    q: &[f64],
+) -> Result<(), KinematicsError> {
     data.check_model(model)?;
     check_q(model, "q", q)?;
     placements(model, data, q);
     check_finite(model, "placement", &data.world_from_body, |x| {
         x.translation.is_finite()
-    })?;
-    link_placements(model, data);
-    Ok(())
+    })
 }
 
 /// Forward kinematics with velocities: as [`forward_kinematics`], and the spatial velocity of each

@@ -6,7 +6,7 @@
 
 use crate::data::{FrameId, KinematicsData};
 use crate::error::{KinematicsError, check_q};
-use crate::forward::{check_finite, forward_kinematics_with_velocity, placements, placements_to};
+use crate::forward::{body_placements, forward_kinematics_with_velocity, placements_to};
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
 
@@ -114,12 +114,7 @@ pub fn compute_joint_jacobians_without_links(
     data: &mut KinematicsData,
     q: &[f64],
 ) -> Result<(), KinematicsError> {
-    data.check_model(model)?;
-    check_q(model, "q", q)?;
-    placements(model, data, q);
-    check_finite(model, "placement", &data.world_from_body, |x| {
-        x.translation.is_finite()
-    })?;
+    body_placements(model, data, q)?;
     fill_joint_jacobians(model, data);
     Ok(())
 }
