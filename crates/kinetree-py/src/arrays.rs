@@ -17,8 +17,9 @@ use numpy::{
     AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods,
     PyUntypedArrayMethods, ToPyArray,
 };
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyFloat;
+use pyo3::types::{PyComplex, PyFloat, PyInt};
 use rayon::prelude::*;
 use std::cell::RefCell;
 
@@ -212,6 +213,39 @@ fn too_big(len: usize, what: &str, family: Family) -> PyErr {
         "{what}: {len} values ({:.1e} bytes) do not fit in memory",
         len as f64 * 8.0
     ))
+}
+
+/// A real scalar argument: what an `f64` parameter accepts, except complex numbers.
+///
+/// PyO3 converts through `float()`, and numpy's complex scalars answer that by dropping their
+/// imaginary part with only a `ComplexWarning`: a silent wrong input. They are a `TypeError`
+/// naming the argument here, as Python's own `complex` already is.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Real(pub(crate) f64);
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Real {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        // A float (numpy's float64 included) or an int is the common case: no dtype lookup.
+        if let Ok(x) = obj.cast::<PyFloat>() {
+            return Ok(Self(x.value()));
+        }
+        if !obj.is_instance_of::<PyInt>() {
+            let complex = obj.is_instance_of::<PyComplex>()
+                || obj
+                    .getattr(pyo3::intern!(obj.py(), "dtype"))
+                    .and_then(|d| d.getattr(pyo3::intern!(obj.py(), "kind")))
+                    .and_then(|k| k.extract::<String>())
+                    .is_ok_and(|kind| kind == "c");
+            if complex {
+                return Err(PyTypeError::new_err(
+                    "a complex number where a real number is expected",
+                ));
+            }
+        }
+        obj.extract::<f64>().map(Self)
+    }
 }
 
 /// A finite scalar argument.

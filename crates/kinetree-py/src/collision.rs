@@ -1,7 +1,7 @@
 //! `CollisionModel`: self and world collision of a model's collision geometry (parry), one
 //! configuration or a stack of them in parallel.
 
-use crate::arrays::{States, to_numpy};
+use crate::arrays::{Real, States, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
 use kinetree::collision::{
@@ -323,13 +323,13 @@ impl PyCollisionModel {
     /// >>> cm.set_distance_tolerance(1e-6)
     /// >>> cm.distance_tolerance
     /// 1e-06
-    fn set_distance_tolerance(&self, tol: f64) -> PyResult<()> {
+    fn set_distance_tolerance(&self, tol: Real) -> PyResult<()> {
         let mut cmodel = self
             .cmodel
             .write()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         let mut changed = CollisionModel::clone(&cmodel);
-        changed.set_distance_tolerance(tol).map_err(py_err)?;
+        changed.set_distance_tolerance(tol.0).map_err(py_err)?;
         *cmodel = Arc::new(changed);
         Ok(())
     }

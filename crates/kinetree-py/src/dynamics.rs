@@ -3,7 +3,7 @@
 //! damping, friction and armature left out), as Pinocchio computes them.
 
 use crate::arrays::{
-    ArrayPair, States, finite, in_block, reserve, run, run_blocks, states, to_numpy,
+    ArrayPair, Real, States, finite, in_block, reserve, run, run_blocks, states, to_numpy,
 };
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
@@ -337,7 +337,8 @@ impl PyModel {
     /// >>> qs, vs = panda.simulate(panda.neutral(), np.zeros(9), dt=1e-3, steps=100)
     /// >>> qs.shape, vs.shape
     /// ((101, 9), (101, 9))
-    #[pyo3(signature = (q0, v0, tau = None, dt = 1e-3, steps = 1000, integrator = "rk4"))]
+    #[pyo3(signature = (q0, v0, tau = None, dt = Real(1e-3), steps = 1000, integrator = "rk4"),
+        text_signature = "($self, q0, v0, tau=None, dt=0.001, steps=1000, integrator=\"rk4\")")]
     #[allow(
         clippy::too_many_arguments,
         reason = "a Python signature with defaults"
@@ -348,12 +349,12 @@ impl PyModel {
         q0: &Bound<'py, PyAny>,
         v0: &Bound<'py, PyAny>,
         tau: Option<&Bound<'py, PyAny>>,
-        dt: f64,
+        dt: Real,
         steps: usize,
         integrator: &str,
     ) -> PyResult<ArrayPair<'py>> {
         let (nq, nv) = (self.model.nq(), self.model.nv());
-        let dt = finite(dt, "dt", F)?;
+        let dt = finite(dt.0, "dt", F)?;
         let integrator = match integrator {
             "rk4" => Integrator::RungeKutta4,
             "euler" | "semi_implicit_euler" => Integrator::SemiImplicitEuler,

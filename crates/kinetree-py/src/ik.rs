@@ -1,7 +1,7 @@
 //! `IkSolver` and `IkReport`: inverse kinematics of one or several frames, one goal or a batch
 //! of goals solved in parallel with the GIL released.
 
-use crate::arrays::{states, to_numpy};
+use crate::arrays::{Real, states, to_numpy};
 use crate::errors::{Family, to_py};
 use crate::model::PyModel;
 use kinetree::kinematics::ik::{IkParams, IkReport, IkSolver, IkStatus, IkTarget};
@@ -257,10 +257,10 @@ impl PyIkSolver {
     /// (``None``: no limit, the result then depends only on the inputs and ``seed``); the other
     /// parameters are those of the Rust ``IkParams`` (see its documentation for the defaults).
     #[new]
-    #[pyo3(signature = (model, *, position_tolerance = 1e-6, orientation_tolerance = 1e-5,
+    #[pyo3(signature = (model, *, position_tolerance = Real(1e-6), orientation_tolerance = Real(1e-5),
         max_iterations = 10_000, max_iterations_per_try = 60, max_restarts = None,
-        time_budget = Some(0.005), seed = 0, max_targets = 4, orientation_weight = 0.35,
-        damping = 0.1),
+        time_budget = Some(Real(0.005)), seed = 0, max_targets = 4,
+        orientation_weight = Real(0.35), damping = Real(0.1)),
         text_signature = "(model, *, position_tolerance=1e-6, orientation_tolerance=1e-5, \
             max_iterations=10000, max_iterations_per_try=60, max_restarts=None, \
             time_budget=0.005, seed=0, max_targets=4, orientation_weight=0.35, damping=0.1)")]
@@ -270,17 +270,29 @@ impl PyIkSolver {
     )]
     fn new(
         model: &PyModel,
-        position_tolerance: f64,
-        orientation_tolerance: f64,
+        position_tolerance: Real,
+        orientation_tolerance: Real,
         max_iterations: usize,
         max_iterations_per_try: usize,
         max_restarts: Option<usize>,
-        time_budget: Option<f64>,
+        time_budget: Option<Real>,
         seed: u64,
         max_targets: usize,
-        orientation_weight: f64,
-        damping: f64,
+        orientation_weight: Real,
+        damping: Real,
     ) -> PyResult<Self> {
+        let [
+            position_tolerance,
+            orientation_tolerance,
+            orientation_weight,
+            damping,
+        ] = [
+            position_tolerance,
+            orientation_tolerance,
+            orientation_weight,
+            damping,
+        ]
+        .map(|x| x.0);
         for (name, x) in [
             ("position_tolerance", position_tolerance),
             ("orientation_tolerance", orientation_tolerance),
@@ -292,7 +304,7 @@ impl PyIkSolver {
             }
         }
         // try_from_secs_f64 refuses what a Duration cannot hold (1e308 s) instead of panicking.
-        let time_budget = match time_budget {
+        let time_budget = match time_budget.map(|t| t.0) {
             None => None,
             Some(t) => match Duration::try_from_secs_f64(t) {
                 Ok(d) => Some(d),
@@ -346,8 +358,10 @@ impl PyIkSolver {
 
     /// Adds a posture objective: each step also moves a fraction ``gain`` (0..1) towards ``q``
     /// in the null space of the targets (``q=None`` removes it).
-    #[pyo3(signature = (q = None, gain = 0.1))]
-    fn set_posture(&self, q: Option<&Bound<'_, PyAny>>, gain: f64) -> PyResult<()> {
+    #[pyo3(signature = (q = None, gain = Real(0.1)),
+        text_signature = "($self, q=None, gain=0.1)")]
+    fn set_posture(&self, q: Option<&Bound<'_, PyAny>>, gain: Real) -> PyResult<()> {
+        let gain = gain.0;
         let posture = match q {
             None => None,
             Some(q) => {

@@ -1,6 +1,6 @@
 //! The `Model` class: loading, sizes, names, limits, configuration-space helpers and pickling.
 
-use crate::arrays::{States, finite, run_with, states, to_numpy};
+use crate::arrays::{Real, States, finite, run_with, states, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::kinematics::FrameCache;
 use crate::scratch::{KinematicsBlock, Pool};
@@ -548,10 +548,10 @@ impl PyModel {
         py: Python<'py>,
         q0: &Bound<'py, PyAny>,
         q1: &Bound<'py, PyAny>,
-        t: f64,
+        t: Real,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = Family::Kinematics;
-        let t = finite(t, "t", f)?;
+        let t = finite(t.0, "t", f)?;
         let q0 = states(q0, "q0", self.model.nq(), f)?;
         let q1 = states(q1, "q1", self.model.nq(), f)?;
         run_with(

@@ -3,7 +3,7 @@
 //! merge, so sampling can be split over processes or machines (see
 //! `examples/python/distributed_reachability.py`).
 
-use crate::arrays::{ArrayPair, finite, to_numpy};
+use crate::arrays::{ArrayPair, Real, finite, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
 use kinetree::kinematics::spatial::DVec3;
@@ -158,8 +158,8 @@ impl PyReachableSet {
     /// >>> vox = ws.voxelize(0.1)
     /// >>> vox.is_reachable([0.45, 0.05, 0.55]), vox.is_reachable([2.0, 0.0, 0.5])
     /// (True, False)
-    fn voxelize(&self, voxel_size: f64) -> PyResult<PyVoxelMap> {
-        let map = self.set.voxelize(voxel_size).map_err(py_err)?;
+    fn voxelize(&self, voxel_size: Real) -> PyResult<PyVoxelMap> {
+        let map = self.set.voxelize(voxel_size.0).map_err(py_err)?;
         Ok(PyVoxelMap::from_map(&map))
     }
 }

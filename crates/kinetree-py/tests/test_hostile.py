@@ -36,6 +36,7 @@ def hostile_values(n):
         np.full((4, 4), 1e308), np.zeros((4, 4)), np.zeros(n)[::2],
         # Complex numbers (numpy would drop the imaginary parts with only a warning).
         np.full(n, 0.1 + 1j), np.full(3, 0.1 + 1j), np.full((4, 4), 1j),
+        np.complex128(0.5 + 1j), np.complex64(0.5 + 1j), np.complex128(0.5),
         # Files that are not model files.
         str(ROBOTS), "/dev/null", "no/such/file.urdf", str(ROBOTS / "panda_srdf" / "missing.srdf"),
     ]
