@@ -85,6 +85,10 @@ pub(crate) struct Args {
     /// Write one self-contained HTML file and exit instead of serving.
     #[arg(long)]
     export: Option<PathBuf>,
+    /// Relative tolerance of the signed distances shown (as `kinetree collide`'s); 1e-12 to
+    /// 1e-3, default 1e-8.
+    #[arg(long)]
+    distance_tolerance: Option<f64>,
 }
 
 /// What the server shares between its workers; read-only after [`State::new`].
@@ -153,7 +157,19 @@ impl State {
                 .map(|p| (p.link1, p.link2))
                 .collect();
         }
-        let collision = CollisionModel::from_model(&model, &options).map_err(|e| e.to_string());
+        let mut collision = CollisionModel::from_model(&model, &options).map_err(|e| e.to_string());
+        if let Some(tol) = args.distance_tolerance {
+            match &mut collision {
+                Ok(c) => c
+                    .set_distance_tolerance(tol)
+                    .context("--distance-tolerance")?,
+                // Without a collision model the flag is unused, but a bad value is still refused.
+                Err(_) if !CollisionModel::DISTANCE_TOLERANCE_RANGE.contains(&tol) => {
+                    bail!("--distance-tolerance {tol:e} is outside 1e-12 to 1e-3")
+                }
+                Err(_) => {}
+            }
+        }
         let initial_q = super::parse_named(&model, args.q.as_deref(), false)?;
         let mut model_json = api::model_json(&model, &|f| urls.get(f).cloned());
         model_json["initial_q"] = json!(initial_q);

@@ -367,6 +367,33 @@ fn collide_names_the_pairs_and_their_distances() {
 }
 
 #[test]
+fn distance_tolerance_flag_sets_the_collision_model_and_refuses_bad_values() {
+    let state = State::new(&Args {
+        distance_tolerance: Some(1e-6),
+        ..panda_args()
+    })
+    .unwrap();
+    let cmodel = state.collision.as_ref().unwrap();
+    assert_eq!(cmodel.distance_tolerance(), 1e-6);
+    let default = State::new(&panda_args()).unwrap();
+    assert_eq!(
+        default.collision.as_ref().unwrap().distance_tolerance(),
+        1e-8
+    );
+    for bad in [1.0, 0.0, -1e-6, f64::NAN, 1e-13] {
+        let e = State::new(&Args {
+            distance_tolerance: Some(bad),
+            ..panda_args()
+        })
+        .unwrap_err();
+        assert!(
+            format!("{e:#}").contains("--distance-tolerance"),
+            "{bad}: {e:#}"
+        );
+    }
+}
+
+#[test]
 fn base64_matches_the_rfc_examples() {
     use super::page::base64;
     for (plain, encoded) in [
