@@ -1,5 +1,6 @@
 //! Criterion benchmarks of the batched entry points beside the one-state path: forward
-//! kinematics (every link), one frame's Jacobian, RNEA, ABA and CRBA of 1024 random states,
+//! kinematics (every link), one frame's Jacobian, RNEA, ABA, CRBA and the RNEA derivatives of
+//! 1024 random states,
 //! evaluated one state at a time (`one_state`), batched on one core (`batched`, SIMD lanes) and
 //! batched on every thread of rayon's pool (`parallel`). Throughput is in states, so criterion
 //! prints states per second.
@@ -155,5 +156,46 @@ fn batch(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, batch);
+/// The inverse-dynamics derivatives (the three `nv x nv` matrices of each state).
+fn derivatives(c: &mut Criterion) {
+    use kinetree::dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
+    use kinetree::dynamics::{DerivativesData, rnea_derivatives};
+    for (name, root) in ROBOTS {
+        let model = load(name, root);
+        let (nq, nv) = (model.nq(), model.nv());
+        let (q, v, a) = states(&model);
+        let mut data = DerivativesData::new(&model);
+        let mut db = DerivativesBatch::new(&model);
+        let mut pd = Parallel::<DerivativesBatch>::new(&model);
+        let mut out = [
+            vec![0.0; N * nv * nv],
+            vec![0.0; N * nv * nv],
+            vec![0.0; N * nv * nv],
+        ];
+        let [dq, dv, da] = &mut out;
+        let mut g = c.benchmark_group(format!("batch_derivatives/{name}"));
+        g.throughput(Throughput::Elements(N as u64));
+        g.bench_function(BenchmarkId::new("rnea_derivatives", "one_state"), |b| {
+            b.iter(|| {
+                for k in 0..N {
+                    let r = k * nv..(k + 1) * nv;
+                    let qk = &q[k * nq..(k + 1) * nq];
+                    let d = rnea_derivatives(&model, &mut data, qk, &v[r.clone()], &a[r]);
+                    let _ = black_box(d.is_ok());
+                }
+            })
+        });
+        g.bench_function(BenchmarkId::new("rnea_derivatives", "batched"), |b| {
+            b.iter(|| rnea_derivatives_batch(&model, &mut db, black_box(&q), &v, &a, dq, dv, da))
+        });
+        g.bench_function(BenchmarkId::new("rnea_derivatives", "parallel"), |b| {
+            b.iter(|| {
+                par::rnea_derivatives_batch(&model, &mut pd, black_box(&q), &v, &a, dq, dv, da)
+            })
+        });
+        g.finish();
+    }
+}
+
+criterion_group!(benches, batch, derivatives);
 criterion_main!(benches);

@@ -56,6 +56,13 @@ impl Workspace for crate::dynamics::batch::DynamicsBatch {
     }
 }
 
+#[cfg(feature = "dynamics")]
+impl Workspace for crate::dynamics::batch::DerivativesBatch {
+    fn for_model(model: &Model) -> Self {
+        crate::dynamics::batch::DerivativesBatch::new(model)
+    }
+}
+
 impl<W: Workspace> Parallel<W> {
     /// One workspace for `model` per thread of the current rayon pool.
     #[must_use]
@@ -242,13 +249,13 @@ pub fn frame_jacobian_batch(
 }
 
 #[cfg(feature = "dynamics")]
-pub use dynamics::{aba_batch, crba_batch, rnea_batch};
+pub use dynamics::{aba_batch, crba_batch, rnea_batch, rnea_derivatives_batch};
 
 #[cfg(feature = "dynamics")]
 mod dynamics {
     use super::{In, Out, Parallel, run};
     use crate::dynamics::DynamicsError;
-    use crate::dynamics::batch::{self as db, DynamicsBatch};
+    use crate::dynamics::batch::{self as db, DerivativesBatch, DynamicsBatch};
     use crate::kinematics::batch::batch_size;
     use crate::kinematics::model::Model;
 
@@ -339,6 +346,47 @@ mod dynamics {
         run(&mut pool.workers, n, 0, parts, &|w, (q, m), first| {
             db::crba_batch(model, w, q.0, m.0).map_err(|e| shift(e, first))
         })
+    }
+
+    /// [`dynamics::batch::rnea_derivatives_batch`](db::rnea_derivatives_batch) on every core.
+    ///
+    /// # Errors
+    /// As the one-core function; a bad state is reported with its index in the whole batch.
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "three inputs and three outputs of one batch, as the one-core function"
+    )]
+    pub fn rnea_derivatives_batch(
+        model: &Model,
+        pool: &mut Parallel<DerivativesBatch>,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        dtau_dq: &mut [f64],
+        dtau_dv: &mut [f64],
+        dtau_da: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let (nq, nv) = (model.nq(), model.nv());
+        let nn = nv * nv;
+        let lengths = [v.len(), a.len(), dtau_dq.len()];
+        let Some(n) = states(model, q.len(), &lengths, nn)
+            .filter(|&n| dtau_dv.len() == n * nn && dtau_da.len() == n * nn)
+        else {
+            let w = &mut pool.workers[0];
+            return db::rnea_derivatives_batch(model, w, q, v, a, dtau_dq, dtau_dv, dtau_da);
+        };
+        let inputs = (In(q, nq), In(v, nv), In(a, nv));
+        let outputs = (Out(dtau_dq, nn), Out(dtau_dv, nn), Out(dtau_da, nn));
+        run(
+            &mut pool.workers,
+            n,
+            0,
+            (inputs, outputs),
+            &|w, (i, o), first| {
+                db::rnea_derivatives_batch(model, w, i.0.0, i.1.0, i.2.0, o.0.0, o.1.0, o.2.0)
+                    .map_err(|e| shift(e, first))
+            },
+        )
     }
 }
 

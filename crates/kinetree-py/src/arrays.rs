@@ -350,7 +350,7 @@ pub(crate) fn block_of<'a>(inputs: &[&'a States], first: usize, last: usize) -> 
 pub(crate) const BLOCKS_PER_THREAD: usize = 8;
 
 /// States per block are a multiple of this, so that the batched kernels fill whole SIMD lanes.
-const LANES: usize = 8;
+pub(crate) const LANES: usize = 8;
 
 /// Stacks of at most this many states run on the calling thread with the GIL held: one SIMD
 /// block, a few microseconds at most, less than handing it to the workers costs.

@@ -7,9 +7,11 @@ use crate::arrays::{
 };
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
-use crate::parts::run_parts;
+use crate::parts::{run_parts, run_parts_batched};
 use crate::scratch::new_data;
-use kinetree::dynamics::batch::{aba_batch, crba_batch, rnea_batch};
+use kinetree::dynamics::batch::{
+    DerivativesBatch, aba_batch, crba_batch, rnea_batch, rnea_derivatives_batch,
+};
 use kinetree::dynamics::{
     DynamicsData, Integrator, aba, aba_derivatives, center_of_mass, center_of_mass_jacobian,
     centroidal_momentum, crba, generalized_gravity, generalized_gravity_derivatives,
@@ -183,10 +185,20 @@ impl PyModel {
         a: &Bound<'py, PyAny>,
     ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
         let (q, v, a) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(a, "a", F)?);
-        let [dq, dv, da] = run_parts(py, self, &[&q, &v, &a], F, |d, x| {
-            let r = rnea_derivatives(&self.model, d, x[0], x[1], x[2])?;
-            Ok([r.dtau_dq, r.dtau_dv, r.dtau_da])
-        })?;
+        let [dq, dv, da] = run_parts_batched(
+            py,
+            self,
+            &[&q, &v, &a],
+            F,
+            |d, x| {
+                let r = rnea_derivatives(&self.model, d, x[0], x[1], x[2])?;
+                Ok([r.dtau_dq, r.dtau_dv, r.dtau_da])
+            },
+            |b: &mut DerivativesBatch, x, [dq, dv, da]| {
+                rnea_derivatives_batch(&self.model, b, x[0], x[1], x[2], dq, dv, da)
+                    .map_err(|e| in_block(e.into()))
+            },
+        )?;
         Ok((dq, dv, da))
     }
 

@@ -4,7 +4,7 @@ use crate::arrays::{Real, States, finite, run_with, states, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::kinematics::FrameCache;
 use crate::scratch::{KinematicsBlock, Pool};
-use kinetree::dynamics::batch::DynamicsBatch;
+use kinetree::dynamics::batch::{DerivativesBatch, DynamicsBatch};
 use kinetree::dynamics::{DerivativesData, DynamicsData};
 use kinetree::kinematics::configuration;
 use kinetree::model::dh::{DhConvention, DhRow, DhTable};
@@ -50,6 +50,8 @@ pub(crate) struct PyModel {
     pub(crate) kinematics_batch_pool: Pool<KinematicsBlock>,
     /// Workspaces of the batched dynamics (RNEA, ABA, CRBA), as `dynamics_pool`.
     pub(crate) dynamics_batch_pool: Pool<DynamicsBatch>,
+    /// Workspaces of the batched derivatives, as `dynamics_pool`.
+    pub(crate) derivatives_batch_pool: Pool<DerivativesBatch>,
     /// Links and frames looked up by name (`frame_jacobian`, `frame_placement`).
     pub(crate) frame_cache: FrameCache,
     /// The links users see (indices into the model's links), in depth-first order: all but the
@@ -69,6 +71,7 @@ impl PyModel {
             derivatives_pool: Pool::default(),
             kinematics_batch_pool: Pool::default(),
             dynamics_batch_pool: Pool::default(),
+            derivatives_batch_pool: Pool::default(),
             frame_cache: FrameCache::default(),
         }
     }

@@ -4,7 +4,7 @@
 //! a stacked call takes one for its whole block of states.
 
 use crate::model::PyModel;
-use kinetree::dynamics::batch::DynamicsBatch;
+use kinetree::dynamics::batch::{DerivativesBatch, DynamicsBatch};
 use kinetree::dynamics::{DerivativesData, DynamicsData, JointTerms};
 use kinetree::kinematics::batch::KinematicsBatch;
 use kinetree::kinematics::spatial::{Motion, Se3};
@@ -80,6 +80,15 @@ impl Scratch for DynamicsBatch {
     fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
         model.dynamics_batch_pool.with(
             || DynamicsBatch::with_joint_terms(&model.model, JointTerms::Ignored),
+            f,
+        )
+    }
+}
+
+impl Scratch for DerivativesBatch {
+    fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
+        model.derivatives_batch_pool.with(
+            || DerivativesBatch::with_joint_terms(&model.model, JointTerms::Ignored),
             f,
         )
     }

@@ -7,7 +7,7 @@
 //! printed. With `--json`:
 //! `{"model", "nq", "nv", "batch", "threads", "simd", "ns_per_state": {"fk": {"single",
 //! "batched", "parallel"}, …}}` with the keys `fk`, `fk_frames`, `frame_jacobian`, `rnea`,
-//! `aba`, `crba`, and `collision_distances` (all-pairs signed distances, placements included)
+//! `aba`, `crba`, `rnea_derivatives` (the three matrices), and `collision_distances` (all-pairs signed distances, placements included)
 //! for models with collision geometry, timed on as many states as `--calls` states of 300 ns
 //! would take (mesh pairs cost milliseconds a state), in batches cut down to that many states
 //! (at least 16).
@@ -202,7 +202,46 @@ pub(crate) fn rows(s: &Setup<'_>) -> Vec<Row> {
             black_box(&mass);
         }),
     });
+    rows.push(rnea_derivatives_row(s));
     rows
+}
+
+/// `rnea_derivatives`: the three `nv x nv` matrices of each state.
+fn rnea_derivatives_row(setup: &Setup<'_>) -> Row {
+    use kinetree::dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
+    use kinetree::dynamics::{DerivativesData, rnea_derivatives};
+    let Setup { model, n, .. } = *setup;
+    let (q, v, a) = (&setup.q[..], &setup.v[..], &setup.a[..]);
+    let (nq, nv) = (model.nq(), model.nv());
+    let t = |f: &mut dyn FnMut()| time(n, setup.states, setup.reps, f);
+    let mut data = DerivativesData::new(model);
+    let mut batch = DerivativesBatch::new(model);
+    let mut pool = Parallel::<DerivativesBatch>::new(model);
+    let mut out = [
+        vec![0.0; n * nv * nv],
+        vec![0.0; n * nv * nv],
+        vec![0.0; n * nv * nv],
+    ];
+    let [dq, dv, da] = &mut out;
+    Row {
+        name: "rnea_derivatives",
+        single: t(&mut || {
+            for k in 0..n {
+                let r = k * nv..(k + 1) * nv;
+                let qk = &q[k * nq..(k + 1) * nq];
+                let d = rnea_derivatives(model, &mut data, qk, &v[r.clone()], &a[r]);
+                let _ = black_box(d.map(|d| d.dtau_dq[0]));
+            }
+        }),
+        batched: t(&mut || {
+            let _ = rnea_derivatives_batch(model, &mut batch, q, v, a, dq, dv, da);
+            black_box(&*da);
+        }),
+        parallel: t(&mut || {
+            let _ = par::rnea_derivatives_batch(model, &mut pool, q, v, a, dq, dv, da);
+            black_box(&*da);
+        }),
+    }
 }
 
 /// Runs `kinetree bench --batch`: random states, the timings, and the table or JSON.

@@ -1,4 +1,5 @@
-//! Batched dynamics: RNEA, ABA and CRBA of `N` states in one call, into buffers the caller owns.
+//! Batched dynamics: RNEA, ABA, CRBA and the RNEA derivatives of `N` states in one call, into
+//! buffers the caller owns.
 //!
 //! The states are stored one after another, as in
 //! [`kinetree_kinematics::batch`]: `q` holds `N · model.nq()` numbers, `v`, `a` and `tau`
@@ -35,7 +36,9 @@ mod aba;
 mod articulated;
 mod composite;
 mod crba;
+mod derivatives;
 mod rnea;
+mod rnea_derivatives;
 
 use crate::data::{DynamicsData, JointTerms};
 use crate::error::{DynamicsError, check_vector};
@@ -45,6 +48,8 @@ use crba::CrbaLanes;
 use kinetree_kinematics::batch::{Simd, batch_size};
 use kinetree_kinematics::model::Model;
 use rnea::RneaLanes;
+
+pub use derivatives::{DerivativesBatch, rnea_derivatives_batch};
 
 /// The lane buffers of every batched algorithm for one lane width.
 #[derive(Clone, Debug, Default)]

@@ -172,3 +172,30 @@ fn batched_algorithms_do_not_allocate() {
         assert_eq!(count, 0, "{name}: the batched algorithms allocated");
     }
 }
+
+#[test]
+fn batched_rnea_derivatives_do_not_allocate() {
+    use kinetree_dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
+    for (name, model) in all_models() {
+        let n = 11;
+        let nn = model.nv() * model.nv();
+        let mut r = rng(10);
+        let (mut q, mut v, mut a) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..n {
+            let (qk, vk, ak) = random_state(&model, &mut r);
+            q.extend(qk);
+            v.extend(vk);
+            a.extend(ak);
+        }
+        let mut batch = DerivativesBatch::new(&model);
+        let (mut dq, mut dv, mut da) = (vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]);
+        let count = allocations_during(|| {
+            for _ in 0..2 {
+                rnea_derivatives_batch(&model, &mut batch, &q, &v, &a, &mut dq, &mut dv, &mut da)
+                    .unwrap();
+            }
+        });
+        assert_eq!(count, 0, "{name}: the batched derivatives allocated");
+        assert!(da.iter().any(|&x| x != 0.0), "{name}: nothing computed");
+    }
+}

@@ -2,6 +2,7 @@
 
 mod allocation;
 mod batch;
+mod batch_derivatives;
 mod common;
 mod derivatives;
 mod errors;

@@ -1,0 +1,400 @@
+//! The lane kernel of the batched inverse-dynamics derivatives: the one-state sweeps of
+//! `derivatives/rnea.rs` (`sweep::<true>` without external forces) over a block of `L` states at
+//! a time, every operation in the one-state order.
+
+use crate::derivatives::DerivativesData;
+use kinetree_kinematics::JointModel;
+use kinetree_kinematics::batch::{block_states, body_transform, gather};
+use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::glam::DVec3;
+use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LSe3, LVec3, Lanes};
+use kinetree_kinematics::spatial::{Inertia, Motion};
+
+/// `a + b`, entry by entry.
+#[inline(always)]
+fn mat_add<const L: usize>(a: &LMat3<L>, b: &LMat3<L>) -> LMat3<L> {
+    LMat3 {
+        x_axis: a.x_axis + b.x_axis,
+        y_axis: a.y_axis + b.y_axis,
+        z_axis: a.z_axis + b.z_axis,
+    }
+}
+
+/// `a - b`, entry by entry.
+#[inline(always)]
+fn mat_sub<const L: usize>(a: &LMat3<L>, b: &LMat3<L>) -> LMat3<L> {
+    LMat3 {
+        x_axis: a.x_axis - b.x_axis,
+        y_axis: a.y_axis - b.y_axis,
+        z_axis: a.z_axis - b.z_axis,
+    }
+}
+
+/// The skew matrix `[x]×` (as `derivatives::data::skew`).
+#[inline(always)]
+fn skew<const L: usize>(x: &LVec3<L>) -> LMat3<L> {
+    let z = Lanes::ZERO;
+    LMat3 {
+        x_axis: LVec3 {
+            x: z,
+            y: x.z,
+            z: -x.y,
+        },
+        y_axis: LVec3 {
+            x: -x.z,
+            y: z,
+            z: x.x,
+        },
+        z_axis: LVec3 { x: x.y, y: -x.x, z },
+    }
+}
+
+/// A spatial inertia about the world origin in lanes (the lane form of
+/// `derivatives::data::WorldInertia`); the mass is the same in every lane.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LWorldInertia<const L: usize> {
+    m: f64,
+    h: LVec3<L>,
+    i: LMat3<L>,
+}
+
+impl<const L: usize> LWorldInertia<L> {
+    /// The momentum `Y·s` (as `WorldInertia::mul`).
+    #[inline(always)]
+    fn mul(&self, s: &LMotion<L>) -> LForce<L> {
+        LForce {
+            linear: s.linear.scale_by(self.m) - self.h.cross(&s.angular),
+            angular: self.h.cross(&s.linear) + self.i.mul_vec(&s.angular),
+        }
+    }
+
+    #[inline(always)]
+    fn add_assign(&mut self, o: &Self) {
+        self.m += o.m;
+        self.h += o.h;
+        self.i = mat_add(&self.i, &o.i);
+    }
+
+    /// The body's inertia `inertia` (in its own frame) about the world origin, for the body
+    /// placement `omi` (as `forward_velocity` builds it).
+    #[inline(always)]
+    fn of_body(inertia: &Inertia, omi: &LSe3<L>) -> Self {
+        let r = &omi.rotation;
+        // `Inertia::transformed`: the centre of mass placed, the rotational inertia rotated
+        // (`Symmetric3::rotate`).
+        let c = r.mul_const_vec(inertia.com) + omi.translation;
+        let s = &inertia.rotational;
+        let m0 = r.mul_const_vec(s.column(0));
+        let m1 = r.mul_const_vec(s.column(1));
+        let m2 = r.mul_const_vec(s.column(2));
+        let entry = |i: usize, j: usize| {
+            m0.get(i) * r.x_axis.get(j) + m1.get(i) * r.y_axis.get(j) + m2.get(i) * r.z_axis.get(j)
+        };
+        let (xx, xy, xz, yy, yz, zz) = (
+            entry(0, 0),
+            entry(0, 1),
+            entry(0, 2),
+            entry(1, 1),
+            entry(1, 2),
+            entry(2, 2),
+        );
+        let rot = LMat3 {
+            x_axis: LVec3 {
+                x: xx,
+                y: xy,
+                z: xz,
+            },
+            y_axis: LVec3 {
+                x: xy,
+                y: yy,
+                z: yz,
+            },
+            z_axis: LVec3 {
+                x: xz,
+                y: yz,
+                z: zz,
+            },
+        };
+        let mass = inertia.mass;
+        let l2 = c.dot(&c);
+        let z = Lanes::ZERO;
+        let diagonal = LMat3 {
+            x_axis: LVec3 { x: l2, y: z, z },
+            y_axis: LVec3 { x: z, y: l2, z },
+            z_axis: LVec3 { x: z, y: z, z: l2 },
+        };
+        let outer = LMat3 {
+            x_axis: c.scale(c.x),
+            y_axis: c.scale(c.y),
+            z_axis: c.scale(c.z),
+        };
+        let parallel = mat_sub(&diagonal, &outer);
+        let parallel = LMat3 {
+            x_axis: parallel.x_axis.scale_by(mass),
+            y_axis: parallel.y_axis.scale_by(mass),
+            z_axis: parallel.z_axis.scale_by(mass),
+        };
+        Self {
+            m: mass,
+            h: c.scale_by(mass),
+            i: mat_add(&rot, &parallel),
+        }
+    }
+}
+
+/// `B·w` for the inertia-variation operator `B = [[0, -2[p]×], [0, d]]` (as
+/// `derivatives::rnea::variation_mul`).
+#[inline(always)]
+fn variation_mul<const L: usize>(p: &LVec3<L>, d: &LMat3<L>, w: &LMotion<L>) -> LForce<L> {
+    LForce {
+        linear: p.cross(&w.angular).scale_by(-2.0),
+        angular: d.mul_vec(&w.angular),
+    }
+}
+
+/// `Bᵀ·s` for the same operator (as `derivatives::rnea::variation_transpose`).
+#[inline(always)]
+fn variation_transpose<const L: usize>(p: &LVec3<L>, d: &LMat3<L>, s: &LMotion<L>) -> LForce<L> {
+    LForce {
+        linear: LVec3::ZERO,
+        angular: p.cross(&s.linear).scale_by(2.0) + d.transpose_mul_vec(&s.angular),
+    }
+}
+
+/// The angular-angular block of a body's inertia variation (as
+/// `derivatives::rnea::variation_block`).
+#[inline(always)]
+fn variation_block<const L: usize>(
+    y: &LWorldInertia<L>,
+    v: &LMotion<L>,
+    h: &LForce<L>,
+) -> LMat3<L> {
+    let (vl, vw) = (skew(&v.linear), skew(&v.angular));
+    let hx = skew(&y.h);
+    let a = mat_sub(&vw.mul_mat(&y.i), &y.i.mul_mat(&vw));
+    let b = mat_add(&vl.mul_mat(&hx), &hx.mul_mat(&vl));
+    mat_sub(&mat_sub(&a, &b), &skew(&h.angular))
+}
+
+/// The per-body and per-degree-of-freedom lane buffers of the inverse-dynamics derivatives for
+/// one lane width, and the block's three `nv x nv` matrices (row-major, entry by entry in
+/// lanes).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct RneaDerivativesLanes<const L: usize> {
+    world_from_body: Vec<LSe3<L>>,
+    velocity: Vec<LMotion<L>>,
+    acceleration: Vec<LMotion<L>>,
+    force: Vec<LForce<L>>,
+    composite: Vec<LWorldInertia<L>>,
+    momentum: Vec<LVec3<L>>,
+    variation: Vec<LMat3<L>>,
+    s: Vec<LMotion<L>>,
+    dv_dq: Vec<LMotion<L>>,
+    da_dq: Vec<LMotion<L>>,
+    da_dv: Vec<LMotion<L>>,
+    df_dq: Vec<LForce<L>>,
+    df_dv: Vec<LForce<L>>,
+    df_da: Vec<LForce<L>>,
+    pub(crate) tau: Vec<Lanes<L>>,
+    pub(crate) dq: Vec<Lanes<L>>,
+    pub(crate) dv: Vec<Lanes<L>>,
+    pub(crate) da: Vec<Lanes<L>>,
+}
+
+impl<const L: usize> RneaDerivativesLanes<L> {
+    pub(crate) fn new(model: &Model) -> Self {
+        let (nb, nv) = (model.nbodies(), model.nv());
+        let m = |n| vec![LMotion::ZERO; n];
+        let f = |n| vec![LForce::ZERO; n];
+        let x = |n| vec![Lanes::ZERO; n];
+        Self {
+            world_from_body: vec![LSe3::default(); nb],
+            velocity: m(nb),
+            acceleration: m(nb),
+            force: f(nb),
+            composite: vec![LWorldInertia::default(); nb],
+            momentum: vec![LVec3::ZERO; nb],
+            variation: vec![LMat3::default(); nb],
+            s: m(nv),
+            dv_dq: m(nv),
+            da_dq: m(nv),
+            da_dv: m(nv),
+            df_dq: f(nv),
+            df_dv: f(nv),
+            df_da: f(nv),
+            tau: x(nv),
+            dq: x(nv * nv),
+            dv: x(nv * nv),
+            da: x(nv * nv),
+        }
+    }
+}
+
+/// The forward sweep of one block (`idx`): placements, velocities, accelerations, the bodies'
+/// forces and inertias, and the per-column derivatives of velocity and acceleration (as
+/// `forward_velocity` then `forward_acceleration`, body by body: each body's quantities depend
+/// only on its ancestors', so the one-state results are reproduced).
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the batch's inputs, passed through"
+)]
+fn forward<const L: usize>(
+    bufs: &mut RneaDerivativesLanes<L>,
+    model: &Model,
+    data: &DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    idx: &[usize; L],
+) {
+    let (nq, nv) = (model.nq(), model.nv());
+    let bodies = model.bodies();
+    let joint_models = data.dynamics.kinematics.joint_models();
+    let a0 = LMotion::splat(&Motion::new(-model.gravity(), DVec3::ZERO));
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        let jm: &JointModel = &joint_models[i];
+        let x = body_transform(jm, b, q, nq, idx);
+        let p = b.parent;
+        let (omi, vp) = if p == 0 {
+            (x, LMotion::ZERO)
+        } else {
+            (bufs.world_from_body[p].mul(&x), bufs.velocity[p])
+        };
+        bufs.world_from_body[i] = omi;
+        let mut vj = LMotion::ZERO;
+        for k in 0..b.nv {
+            let d = b.idx_v + k;
+            let s = omi.act_motion(&LMotion::splat(&jm.subspace_column(k)));
+            bufs.s[d] = s;
+            vj += s.scale(gather(v, nv, d, idx));
+            bufs.dv_dq[d] = vp.cross_motion(&s);
+        }
+        let vi = vp + vj;
+        for d in b.idx_v..b.idx_v + b.nv {
+            bufs.da_dv[d] = vi.cross_motion(&bufs.s[d]) + bufs.dv_dq[d];
+        }
+        let y = LWorldInertia::of_body(&b.inertia, &omi);
+        let h = y.mul(&vi);
+        bufs.velocity[i] = vi;
+        let bias = vp.cross_motion(&vj);
+        let mut force = vi.cross_force(&h);
+        bufs.momentum[i] = h.linear;
+        bufs.variation[i] = variation_block(&y, &vi, &h);
+        bufs.composite[i] = y;
+        // `sweep` and `forward_acceleration`.
+        let ap = if p == 0 { a0 } else { bufs.acceleration[p] };
+        let mut ai = ap + bias;
+        for d in b.idx_v..b.idx_v + b.nv {
+            ai += bufs.s[d].scale(gather(a, nv, d, idx));
+        }
+        for d in b.idx_v..b.idx_v + b.nv {
+            bufs.da_dq[d] = ap.cross_motion(&bufs.s[d]) + vp.cross_motion(&bufs.dv_dq[d]);
+        }
+        bufs.acceleration[i] = ai;
+        force += y.mul(&ai);
+        bufs.force[i] = force;
+    }
+}
+
+/// The backward sweep of one block (as `backward::<true>` without external forces and without
+/// the finiteness bound): `τ` and the three matrices' entries that can be nonzero.
+#[inline(always)]
+fn backward<const L: usize>(
+    bufs: &mut RneaDerivativesLanes<L>,
+    model: &Model,
+    data: &DerivativesData,
+) {
+    let nv = data.nv;
+    let bodies = model.bodies();
+    for i in (1..bodies.len()).rev() {
+        let b = &bodies[i];
+        let (f, y, pm, dm) = (
+            bufs.force[i],
+            bufs.composite[i],
+            bufs.momentum[i],
+            bufs.variation[i],
+        );
+        let r0 = b.idx_v;
+        let r1 = r0 + b.nv;
+        let c1 = r0 + data.nv_subtree[i];
+        for d in r0..r1 {
+            let s = bufs.s[d];
+            bufs.tau[d] = s.dot(&f);
+            bufs.df_dq[d] = y.mul(&bufs.da_dq[d]) + variation_mul(&pm, &dm, &bufs.dv_dq[d]);
+            bufs.df_da[d] = y.mul(&s);
+            bufs.df_dv[d] = y.mul(&bufs.da_dv[d]) + variation_mul(&pm, &dm, &s);
+        }
+        // Rows of this joint, columns of its subtree (itself included).
+        for r in r0..r1 {
+            let s = bufs.s[r];
+            let row = r * nv;
+            for c in r0..c1 {
+                bufs.dq[row + c] = s.dot(&bufs.df_dq[c]);
+            }
+            for c in r0..c1 {
+                bufs.dv[row + c] = s.dot(&bufs.df_dv[c]);
+                bufs.da[row + c] = s.dot(&bufs.df_da[c]);
+            }
+        }
+        for d in r0..r1 {
+            bufs.df_dq[d] = bufs.df_dq[d] + bufs.s[d].cross_force(&f);
+        }
+        // Rows of this joint, columns of its strict ancestors.
+        let ancestors = if b.nv > 0 {
+            data.tree.ancestors(r0)
+        } else {
+            &[]
+        };
+        if !ancestors.is_empty() {
+            for r in r0..r1 {
+                let s = bufs.s[r];
+                let ys = y.mul(&s);
+                let bs = variation_transpose(&pm, &dm, &s);
+                let row = r * nv;
+                for &j in ancestors {
+                    let sj = &bufs.s[j];
+                    bufs.dq[row + j] = bufs.da_dq[j].dot(&ys) + bufs.dv_dq[j].dot(&bs);
+                    bufs.dv[row + j] = bufs.da_dv[j].dot(&ys) + sj.dot(&bs);
+                    bufs.da[row + j] = sj.dot(&ys);
+                }
+            }
+        }
+        let p = b.parent;
+        if p != 0 {
+            bufs.force[p] += f;
+            let mut yp = bufs.composite[p];
+            yp.add_assign(&y);
+            bufs.composite[p] = yp;
+            bufs.momentum[p] += pm;
+            bufs.variation[p] = mat_add(&bufs.variation[p], &dm);
+        }
+    }
+}
+
+/// The inverse-dynamics derivatives of the `n` states of `(q, v, a)` (inputs checked by the
+/// caller), block by block: `out(bufs, start, count)` copies each block's results out of the
+/// lane buffers (lanes `0..count` hold states `start..start + count`).
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the batch's inputs, passed through"
+)]
+pub(crate) fn rnea_derivatives<const L: usize>(
+    bufs: &mut RneaDerivativesLanes<L>,
+    model: &Model,
+    data: &DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    n: usize,
+    mut out: impl FnMut(&RneaDerivativesLanes<L>, usize, usize),
+) {
+    for start in (0..n).step_by(L) {
+        let idx = block_states::<L>(start, n);
+        forward(bufs, model, data, q, v, a, &idx);
+        backward(bufs, model, data);
+        out(bufs, start, L.min(n - start));
+    }
+}

@@ -1,0 +1,222 @@
+//! The batched inverse-dynamics derivatives against the one-state `rnea_derivatives`, state by
+//! state, on every reference robot and the every-joint-kind models, on every lane width, with
+//! and without the joint terms; and their errors.
+
+use crate::common::{all_models, random_state, rng};
+use kinetree_dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
+use kinetree_dynamics::kinematics::batch::Simd;
+use kinetree_dynamics::model::{Model, RootJoint};
+use kinetree_dynamics::{DerivativesData, DynamicsError, JointTerms, rnea_derivatives};
+
+/// Every instruction set (those this CPU lacks fall back to one it has).
+const SIMD: [Simd; 3] = [Simd::Portable, Simd::Avx2, Simd::Avx512];
+
+/// Batch sizes: one state, lane widths and their neighbours, and a size no lane width divides.
+const SIZES: [usize; 5] = [1, 4, 8, 9, 19];
+
+/// `n` random states of `model`, stacked (every third one fast and far from the origin).
+fn states(model: &Model, n: usize, seed: u64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut r = rng(seed);
+    let (mut qs, mut vs, mut as_) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..n {
+        let (q, v, a) = random_state(model, &mut r);
+        let scale = if k % 3 == 0 { 7.0 } else { 1.0 };
+        qs.extend(q);
+        vs.extend(v.iter().map(|x| x * scale));
+        as_.extend(a.iter().map(|x| x * scale));
+    }
+    (qs, vs, as_)
+}
+
+/// Asserts `got` equals `want` bit for bit: the lane kernel repeats the one-state arithmetic in
+/// the same order.
+fn assert_bits(got: &[f64], want: &[f64], what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}");
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        assert!(
+            g.to_bits() == w.to_bits(),
+            "{what}[{i}]: batched {g:e}, one-state {w:e}"
+        );
+    }
+}
+
+#[test]
+fn batched_rnea_derivatives_equal_the_one_state_ones_bit_for_bit() {
+    for (name, model) in all_models() {
+        let (nq, nv) = (model.nq(), model.nv());
+        let nn = nv * nv;
+        for terms in [JointTerms::Ignored, JointTerms::FromModel] {
+            let mut data = DerivativesData::with_joint_terms(&model, terms);
+            for simd in SIMD {
+                let mut batch = DerivativesBatch::with_options(&model, terms, simd);
+                for n in SIZES {
+                    let (q, v, a) = states(&model, n, 31 + n as u64);
+                    // Garbage in the outputs: every entry must be written.
+                    let (mut dq, mut dv, mut da) = (
+                        vec![f64::NAN; n * nn],
+                        vec![7.0; n * nn],
+                        vec![-1.0; n * nn],
+                    );
+                    rnea_derivatives_batch(
+                        &model, &mut batch, &q, &v, &a, &mut dq, &mut dv, &mut da,
+                    )
+                    .unwrap();
+                    for k in 0..n {
+                        let r = k * nv..(k + 1) * nv;
+                        let one = rnea_derivatives(
+                            &model,
+                            &mut data,
+                            &q[k * nq..(k + 1) * nq],
+                            &v[r.clone()],
+                            &a[r],
+                        )
+                        .unwrap();
+                        let m = k * nn..(k + 1) * nn;
+                        let what = format!("{name} {terms:?} {simd:?} n={n} state {k}");
+                        assert_bits(&dq[m.clone()], one.dtau_dq, &format!("{what} dtau_dq"));
+                        assert_bits(&dv[m.clone()], one.dtau_dv, &format!("{what} dtau_dv"));
+                        assert_bits(&da[m], one.dtau_da, &format!("{what} dtau_da"));
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn batched_rnea_derivatives_name_a_bad_state_as_one_call_would() {
+    let (_, model) = all_models().remove(0);
+    let (nq, nv) = (model.nq(), model.nv());
+    let nn = nv * nv;
+    let n = 9;
+    let (q, v, a) = states(&model, n, 5);
+    let (mut dq, mut dv, mut da) = (vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]);
+    let mut data = DerivativesData::new(&model);
+    for simd in SIMD {
+        let mut batch = DerivativesBatch::with_options(&model, JointTerms::Ignored, simd);
+        // A NaN velocity in state 6: the one-state error, wrapped with the index.
+        let mut bad = v.clone();
+        bad[6 * nv + 1] = f64::NAN;
+        let err =
+            rnea_derivatives_batch(&model, &mut batch, &q, &bad, &a, &mut dq, &mut dv, &mut da)
+                .unwrap_err();
+        let one = rnea_derivatives(
+            &model,
+            &mut data,
+            &q[6 * nq..7 * nq],
+            &bad[6 * nv..7 * nv],
+            &a[6 * nv..7 * nv],
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&err, DynamicsError::InBatchState { index: 6, source } if format!("{source:?}") == format!("{one:?}")),
+            "{err:?}"
+        );
+        assert!(
+            matches!(
+                one,
+                DynamicsError::NonFinite {
+                    what: "v",
+                    index: 1
+                }
+            ),
+            "{one:?}"
+        );
+        // Lengths that are not whole states, and outputs of the wrong size.
+        let err = rnea_derivatives_batch(
+            &model,
+            &mut batch,
+            &q,
+            &v,
+            &a[1..],
+            &mut dq,
+            &mut dv,
+            &mut da,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(err, DynamicsError::DimensionMismatch { what: "a", .. }),
+            "{err:?}"
+        );
+        let err = rnea_derivatives_batch(
+            &model,
+            &mut batch,
+            &q,
+            &v,
+            &a,
+            &mut dq,
+            &mut dv[1..],
+            &mut da,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                err,
+                DynamicsError::DimensionMismatch {
+                    what: "dtau_dv",
+                    ..
+                }
+            ),
+            "{err:?}"
+        );
+    }
+    // A batch built for another model.
+    let other = all_models().pop().unwrap().1;
+    let mut wrong = DerivativesBatch::new(&other);
+    let err = rnea_derivatives_batch(&model, &mut wrong, &q, &v, &a, &mut dq, &mut dv, &mut da)
+        .unwrap_err();
+    assert!(matches!(err, DynamicsError::DataMismatch { .. }), "{err:?}");
+}
+
+/// A state whose derivatives overflow (finite inputs, a huge velocity) is named by its index
+/// with the one-state error, on every lane width and in a partly filled block; its neighbours
+/// are fine.
+#[test]
+fn batched_rnea_derivatives_name_an_overflowing_state() {
+    let model = Model::from_urdf_str(
+        r#"<robot name="arm"><link name="a"/>
+          <link name="b"><inertial><origin xyz="0.5 0 0"/><mass value="2"/>
+            <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+          <link name="c"><inertial><origin xyz="0.3 0 0"/><mass value="1"/>
+            <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+          <joint name="j1" type="revolute"><parent link="a"/><child link="b"/>
+            <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+          <joint name="j2" type="revolute"><parent link="b"/><child link="c"/>
+            <origin xyz="1 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+        </robot>"#,
+        RootJoint::Fixed,
+    )
+    .unwrap();
+    let n = 11;
+    let q: Vec<f64> = (0..2 * n).map(|i| 0.1 * i as f64).collect();
+    let a = vec![0.5; 2 * n];
+    let mut v = vec![0.3; 2 * n];
+    // v² overflows.
+    v[2 * 9] = 1e200;
+    let mut data = DerivativesData::new(&model);
+    let one = rnea_derivatives(&model, &mut data, &q[18..20], &v[18..20], &a[18..20]).unwrap_err();
+    assert!(matches!(one, DynamicsError::Overflow { .. }), "{one:?}");
+    let nn = 4;
+    let (mut dq, mut dv, mut da) = (vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]);
+    for simd in SIMD {
+        let mut batch = DerivativesBatch::with_options(&model, JointTerms::Ignored, simd);
+        let err = rnea_derivatives_batch(&model, &mut batch, &q, &v, &a, &mut dq, &mut dv, &mut da)
+            .unwrap_err();
+        assert!(
+            matches!(&err, DynamicsError::InBatchState { index: 9, source } if format!("{source:?}") == format!("{one:?}")),
+            "{simd:?}: {err:?}"
+        );
+        // Without the bad state, every state is accepted.
+        rnea_derivatives_batch(
+            &model,
+            &mut batch,
+            &q[..18],
+            &v[..18],
+            &a[..18],
+            &mut dq[..9 * nn],
+            &mut dv[..9 * nn],
+            &mut da[..9 * nn],
+        )
+        .unwrap();
+    }
+}
