@@ -1,6 +1,6 @@
 //! The batched entry points (`kinetree_kinematics::batch`, `kinetree_dynamics::batch`) against
 //! the one-state algorithms, state by state, on every reference robot and a model with every
-//! joint kind (fixed and floating root), for batch sizes that do and do not fill the SIMD lanes.
+//! joint kind (fixed and floating root) and a placed free joint, for batch sizes that do and do not fill the SIMD lanes.
 
 use crate::common::{all_models, random_state, rng};
 use kinetree_dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
@@ -80,7 +80,7 @@ const SIZES: [usize; 5] = [1, 4, 8, 9, 19];
 
 #[test]
 fn batched_kinematics_equals_the_one_state_path() {
-    for (name, model) in all_models() {
+    for (name, model) in models() {
         let (nq, nv, nl, nf) = (
             model.nq(),
             model.nv(),
@@ -153,7 +153,7 @@ fn batched_kinematics_equals_the_one_state_path() {
 
 #[test]
 fn batched_dynamics_equals_the_one_state_path() {
-    for (name, model) in all_models() {
+    for (name, model) in models() {
         let (nq, nv) = (model.nq(), model.nv());
         for simd in SIMD {
             let mut batch = DynamicsBatch::with_options(&model, JointTerms::Ignored, simd);
@@ -213,6 +213,30 @@ fn batched_dynamics_equals_the_one_state_path() {
 
 /// A hinge carrying a mass, and a massless hinge on it (with armature, which
 /// `JointTerms::FromModel` adds to its pivot).
+/// Every model of [`all_models`], and one with a free-floating joint whose placement is not the
+/// identity (the lane kernel of a free joint applies the placement only then).
+fn models() -> Vec<(String, Model)> {
+    let mut b = ModelBuilder::new("placed_floating");
+    b.add_link(Link::new("base"));
+    let inertia = Symmetric3::new(0.01, 0.001, -0.002, 0.02, 0.003, 0.03);
+    b.add_part(
+        Link::new("arm").with_mass(1.5, DVec3::new(0.3, 0.0, 0.0), inertia),
+        JointSpec::new("shoulder", JointKind::Revolute, "base", "arm").with_axis(DVec3::Y),
+    );
+    b.add_part(
+        Link::new("drone").with_mass(0.7, DVec3::new(0.0, 0.1, -0.05), inertia),
+        JointSpec::new("free", JointKind::Floating, "arm", "drone")
+            .with_placement(Se3::from_xyz_rpy([0.6, -0.1, 0.2], [0.3, -0.4, 0.5])),
+    );
+    b.add_part(
+        Link::new("tip").with_mass(0.2, DVec3::new(0.05, 0.0, 0.0), inertia),
+        JointSpec::new("wrist", JointKind::Revolute, "drone", "tip").with_axis(DVec3::X),
+    );
+    let mut out = all_models();
+    out.push(("placed_floating".into(), b.build().unwrap()));
+    out
+}
+
 fn massless_leaf() -> Model {
     let mut b = ModelBuilder::new("massless_leaf");
     b.add_link(Link::new("base"));

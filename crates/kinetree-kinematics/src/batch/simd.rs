@@ -254,6 +254,7 @@ pub fn body_transform<const L: usize>(
             slide(LMat3::splat(r).mul_vec(&v))
         }
         JointModel::Fixed => LSe3::splat(p),
+        JointModel::Floating => floating_transform(b, q, nq, idx),
         _ => {
             let mut x = LSe3::default();
             for l in 0..L {
@@ -262,6 +263,59 @@ pub fn body_transform<const L: usize>(
             }
             x
         }
+    }
+}
+
+/// `parent_from_body` of a free-floating body in each lane, as [`JointModel::body_transform`]
+/// computes it: the quaternion divided by its length (`quat` of `joint/model.rs`), turned into a
+/// matrix as `DMat3::from_quat` does, and the placement applied unless it is the identity.
+#[inline(always)]
+fn floating_transform<const L: usize>(b: &Body, q: &[f64], nq: usize, idx: &[usize; L]) -> LSe3<L> {
+    let at = |k: usize| gather(q, nq, b.idx_q + k, idx);
+    let translation = LVec3 {
+        x: at(0),
+        y: at(1),
+        z: at(2),
+    };
+    let (x, y, z, w) = (at(3), at(4), at(5), at(6));
+    let length = (x * x + y * y + z * z + w * w).map(f64::sqrt);
+    let unit = |a: Lanes<L>| {
+        let mut out = a.0;
+        for l in 0..L {
+            out[l] /= length.0[l];
+        }
+        Lanes(out)
+    };
+    let (x, y, z, w) = (unit(x), unit(y), unit(z), unit(w));
+    let (x2, y2, z2) = (x + x, y + y, z + z);
+    let (xx, xy, xz) = (x * x2, x * y2, x * z2);
+    let (yy, yz, zz) = (y * y2, y * z2, z * z2);
+    let (wx, wy, wz) = (w * x2, w * y2, w * z2);
+    let one = Lanes::splat(1.0);
+    let local = LSe3 {
+        rotation: LMat3 {
+            x_axis: LVec3 {
+                x: one - (yy + zz),
+                y: xy + wz,
+                z: xz - wy,
+            },
+            y_axis: LVec3 {
+                x: xy - wz,
+                y: one - (xx + zz),
+                z: yz + wx,
+            },
+            z_axis: LVec3 {
+                x: xz + wy,
+                y: yz - wx,
+                z: one - (xx + yy),
+            },
+        },
+        translation,
+    };
+    if b.placement == kinetree_model::spatial::Se3::IDENTITY {
+        local
+    } else {
+        LSe3::splat(&b.placement).mul(&local)
     }
 }
 
