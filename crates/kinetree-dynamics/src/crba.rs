@@ -5,7 +5,8 @@ use crate::error::DynamicsError;
 use crate::rnea::check_inputs;
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
-use kinetree_kinematics::spatial::Force;
+use kinetree_kinematics::spatial::glam::DVec3;
+use kinetree_kinematics::spatial::{Force, Se3};
 
 /// The joint-space mass (inertia) matrix `M(q)`: `nv x nv`, symmetric positive (semi-)definite,
 /// with `½·q̇ᵀ·M·q̇` the kinetic energy.
@@ -149,7 +150,20 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
                 if p == 0 {
                     break;
                 }
-                fk = parent_from_body[j].act_force(&fk);
+                let x = &parent_from_body[j];
+                if bodies[p].parent == 0
+                    && let Some(axis) = joint_models[p].axis_index()
+                {
+                    // The last ancestor, about or along a coordinate axis: only its component
+                    // of the moved force is needed.
+                    let v = axis_component(x, &fk, axis);
+                    let jv = bodies[p].idx_v;
+                    probe += v;
+                    m[jv * nv + iv] = v;
+                    m[iv * nv + jv] = v;
+                    break;
+                }
+                fk = x.act_force(&fk);
                 j = p;
                 let jv = bodies[j].idx_v;
                 match joint_models[j].project_axis(&fk) {
@@ -216,10 +230,48 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
     probe
 }
 
+/// Component `axis` (as [`JointModel::axis_index`]: the angular component `k` when `true`, else
+/// the linear one) of `x.act_force(f)`, with the same operations in the same order, so it equals
+/// that component of the whole product bit for bit at a third of its cost.
+#[inline(always)]
+fn axis_component(x: &Se3, f: &Force, (k, angular): (usize, bool)) -> f64 {
+    let r = &x.rotation;
+    // Row `i` of `R·v`, summed as `DMat3 * DVec3` sums its columns.
+    let row = |i: usize, v: DVec3| (r.x_axis[i] * v.x + r.y_axis[i] * v.y) + r.z_axis[i] * v.z;
+    if !angular {
+        return row(k, f.linear);
+    }
+    let t = x.translation;
+    // Component `k` of `t × (R·f)`, as `DVec3::cross` computes it.
+    let cross = match k {
+        0 => t.y * row(2, f.linear) - row(1, f.linear) * t.z,
+        1 => t.z * row(0, f.linear) - row(2, f.linear) * t.x,
+        _ => t.x * row(1, f.linear) - row(0, f.linear) * t.y,
+    };
+    row(k, f.angular) + cross
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use kinetree_kinematics::model::RootJoint;
+
+    #[test]
+    fn the_axis_component_is_that_of_the_whole_force_transform_bit_for_bit() {
+        let x = Se3::from_xyz_rpy([0.31, -0.27, 0.093], [0.4, -1.1, 2.3]);
+        let f = Force::from_array([0.7, -1.9, 0.35, -0.21, 1.3, 0.77]);
+        let whole = x.act_force(&f).to_array();
+        for k in 0..3 {
+            assert_eq!(
+                axis_component(&x, &f, (k, false)).to_bits(),
+                whole[k].to_bits()
+            );
+            assert_eq!(
+                axis_component(&x, &f, (k, true)).to_bits(),
+                whole[3 + k].to_bits()
+            );
+        }
+    }
 
     #[test]
     fn finite_entries_whose_probe_overflows_are_accepted() {
