@@ -6,7 +6,7 @@ use crate::data::{JointTerms, sign};
 use crate::derivatives::DerivativesData;
 use crate::error::DynamicsError;
 use crate::rnea::check_inputs;
-use kinetree_kinematics::batch::Simd;
+use kinetree_kinematics::batch::{Simd, block_states};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::lanes::Lanes;
 
@@ -182,7 +182,10 @@ fn kernel<const L: usize>(
     let nn = nv * nv;
     let dynamics = &data.dynamics;
     let mut first_bad = None;
-    rnea_derivatives(bufs, model, data, q, v, a, n, |bufs, start, count| {
+    for start in (0..n).step_by(L) {
+        let idx = block_states::<L>(start, n);
+        let count = L.min(n - start);
+        rnea_derivatives(bufs, model, data, q, v, a, &idx);
         // `x · 0` is zero for a finite `x` and NaN otherwise: one probe per lane for the whole
         // block.
         let mut probe = Lanes::<L>::ZERO;
@@ -195,21 +198,30 @@ fn kernel<const L: usize>(
         {
             probe += *x * 0.0;
         }
+        let rows = start * nn..(start + count) * nn;
+        let (dq, dv, da) = (
+            &mut dtau_dq[rows.clone()],
+            &mut dtau_dv[rows.clone()],
+            &mut dtau_da[rows],
+        );
+        let (bq, bv, ba) = (&bufs.dq[..nn], &bufs.dv[..nn], &bufs.da[..nn]);
+        for l in 0..count {
+            let at = l * nn..(l + 1) * nn;
+            for (o, x) in dq[at.clone()].iter_mut().zip(bq) {
+                *o = x.0[l];
+            }
+            for (o, x) in dv[at.clone()].iter_mut().zip(bv) {
+                *o = x.0[l];
+            }
+            for (o, x) in da[at].iter_mut().zip(ba) {
+                *o = x.0[l];
+            }
+        }
         for l in 0..count {
             let k = start + l;
-            let at = k * nn;
-            let (dq, dv, da) = (
-                &mut dtau_dq[at..at + nn],
-                &mut dtau_dv[at..at + nn],
-                &mut dtau_da[at..at + nn],
-            );
-            for e in 0..nn {
-                dq[e] = bufs.dq[e].0[l];
-                dv[e] = bufs.dv[e].0[l];
-                da[e] = bufs.da[e].0[l];
-            }
             let mut finite = probe.0[l] == 0.0;
             if dynamics.has_joint_terms {
+                let (dv, da) = (&mut dv[l * nn..(l + 1) * nn], &mut da[l * nn..(l + 1) * nn]);
                 let (vk, ak) = (&v[k * nv..(k + 1) * nv], &a[k * nv..(k + 1) * nv]);
                 for j in 0..nv {
                     let tau = bufs.tau[j].0[l]
@@ -226,6 +238,6 @@ fn kernel<const L: usize>(
                 first_bad = Some(k);
             }
         }
-    });
+    }
     first_bad
 }

@@ -4,7 +4,7 @@
 
 use crate::derivatives::DerivativesData;
 use kinetree_kinematics::JointModel;
-use kinetree_kinematics::batch::{block_states, body_transform, gather};
+use kinetree_kinematics::batch::{body_transform, gather};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LSe3, LVec3, Lanes};
@@ -152,7 +152,8 @@ fn variation_mul<const L: usize>(p: &LVec3<L>, d: &LMat3<L>, w: &LMotion<L>) -> 
     }
 }
 
-/// `Bᵀ·s` for the same operator (as `derivatives::rnea::variation_transpose`).
+/// `Bᵀ·s` for the same operator (as `derivatives::rnea::variation_transpose`; its linear part
+/// is zero).
 #[inline(always)]
 fn variation_transpose<const L: usize>(p: &LVec3<L>, d: &LMat3<L>, s: &LMotion<L>) -> LForce<L> {
     LForce {
@@ -161,18 +162,47 @@ fn variation_transpose<const L: usize>(p: &LVec3<L>, d: &LMat3<L>, s: &LMotion<L
     }
 }
 
+/// `[w]× · m` as `DMat3` computes it, without the products by the skew matrix's zeros (each
+/// dropped term is a zero added to a sum: the values are the full product's, zeros' signs aside).
+#[inline(always)]
+fn skew_mul<const L: usize>(w: &LVec3<L>, m: &LMat3<L>) -> LMat3<L> {
+    // Column j: [w]×'s columns (0, z, -y), (-z, 0, x), (y, -x, 0) times m's column j.
+    let col = |c: &LVec3<L>| LVec3 {
+        x: -w.z * c.y + w.y * c.z,
+        y: w.z * c.x + -w.x * c.z,
+        z: -w.y * c.x + w.x * c.y,
+    };
+    LMat3 {
+        x_axis: col(&m.x_axis),
+        y_axis: col(&m.y_axis),
+        z_axis: col(&m.z_axis),
+    }
+}
+
+/// `m · [w]×` as `DMat3` computes it, without the products by the skew matrix's zeros (as
+/// [`skew_mul`]).
+#[inline(always)]
+fn mul_skew<const L: usize>(m: &LMat3<L>, w: &LVec3<L>) -> LMat3<L> {
+    let (a, b, c) = (&m.x_axis, &m.y_axis, &m.z_axis);
+    LMat3 {
+        x_axis: b.scale(w.z) + c.scale(-w.y),
+        y_axis: a.scale(-w.z) + c.scale(w.x),
+        z_axis: a.scale(w.y) + b.scale(-w.x),
+    }
+}
+
 /// The angular-angular block of a body's inertia variation (as
-/// `derivatives::rnea::variation_block`).
+/// `derivatives::rnea::variation_block`, its products by the skew matrices' zeros left out).
 #[inline(always)]
 fn variation_block<const L: usize>(
     y: &LWorldInertia<L>,
     v: &LMotion<L>,
     h: &LForce<L>,
 ) -> LMat3<L> {
-    let (vl, vw) = (skew(&v.linear), skew(&v.angular));
+    let (vl, vw) = (&v.linear, &v.angular);
     let hx = skew(&y.h);
-    let a = mat_sub(&vw.mul_mat(&y.i), &y.i.mul_mat(&vw));
-    let b = mat_add(&vl.mul_mat(&hx), &hx.mul_mat(&vl));
+    let a = mat_sub(&skew_mul(vw, &y.i), &mul_skew(&y.i, vw));
+    let b = mat_add(&skew_mul(vl, &hx), &mul_skew(&hx, vl));
     mat_sub(&mat_sub(&a, &b), &skew(&h.angular))
 }
 
@@ -266,7 +296,23 @@ fn forward<const L: usize>(
         let mut vj = LMotion::ZERO;
         for k in 0..b.nv {
             let d = b.idx_v + k;
-            let s = omi.act_motion(&LMotion::splat(&jm.subspace_column(k)));
+            let s = match jm.axis_index() {
+                // `omi.act_motion` of a unit motion: a column of the rotation, and the
+                // translation's cross product with it (the products by the unit motion's zeros
+                // left out).
+                Some((axis, true)) => {
+                    let w = omi.rotation.col(axis);
+                    LMotion {
+                        linear: omi.translation.cross(&w),
+                        angular: w,
+                    }
+                }
+                Some((axis, false)) => LMotion {
+                    linear: omi.rotation.col(axis),
+                    angular: LVec3::ZERO,
+                },
+                None => omi.act_motion(&LMotion::splat(&jm.subspace_column(k))),
+            };
             bufs.s[d] = s;
             vj += s.scale(gather(v, nv, d, idx));
             bufs.dv_dq[d] = vp.cross_motion(&s);
@@ -350,13 +396,16 @@ fn backward<const L: usize>(
         if !ancestors.is_empty() {
             for r in r0..r1 {
                 let s = bufs.s[r];
-                let ys = y.mul(&s);
+                // `Y·s`, as `df_da[r]` holds it.
+                let ys = bufs.df_da[r];
+                // `Bᵀ·s` has no linear part: its products are left out of the dots below.
                 let bs = variation_transpose(&pm, &dm, &s);
                 let row = r * nv;
                 for &j in ancestors {
                     let sj = &bufs.s[j];
-                    bufs.dq[row + j] = bufs.da_dq[j].dot(&ys) + bufs.dv_dq[j].dot(&bs);
-                    bufs.dv[row + j] = bufs.da_dv[j].dot(&ys) + sj.dot(&bs);
+                    bufs.dq[row + j] =
+                        bufs.da_dq[j].dot(&ys) + bufs.dv_dq[j].angular.dot(&bs.angular);
+                    bufs.dv[row + j] = bufs.da_dv[j].dot(&ys) + sj.angular.dot(&bs.angular);
                     bufs.da[row + j] = sj.dot(&ys);
                 }
             }
@@ -373,9 +422,8 @@ fn backward<const L: usize>(
     }
 }
 
-/// The inverse-dynamics derivatives of the `n` states of `(q, v, a)` (inputs checked by the
-/// caller), block by block: `out(bufs, start, count)` copies each block's results out of the
-/// lane buffers (lanes `0..count` hold states `start..start + count`).
+/// The inverse-dynamics derivatives of the block of states `idx` of `(q, v, a)` (inputs
+/// checked by the caller) into the lane buffers `tau`, `dq`, `dv` and `da`.
 #[inline(always)]
 #[allow(
     clippy::too_many_arguments,
@@ -388,13 +436,8 @@ pub(crate) fn rnea_derivatives<const L: usize>(
     q: &[f64],
     v: &[f64],
     a: &[f64],
-    n: usize,
-    mut out: impl FnMut(&RneaDerivativesLanes<L>, usize, usize),
+    idx: &[usize; L],
 ) {
-    for start in (0..n).step_by(L) {
-        let idx = block_states::<L>(start, n);
-        forward(bufs, model, data, q, v, a, &idx);
-        backward(bufs, model, data);
-        out(bufs, start, L.min(n - start));
-    }
+    forward(bufs, model, data, q, v, a, idx);
+    backward(bufs, model, data);
 }
