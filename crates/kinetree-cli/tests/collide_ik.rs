@@ -65,9 +65,10 @@ fn collide_distance_tolerance_bounds_the_change() {
     // The closest pairs of panda_collision at the default 1e-8 and at 1e-3: each reported
     // distance is within tol · max(|d|, 1 mm) above the exact one, so the two lists differ by at
     // most 1e-3 · max(|d|, 1 mm) per pair (plus the printed rounding, 5e-7 m each), and the
-    // cylinder pairs that GJK/EPA solve move visibly at 1e-3.
+    // pairs that GJK/EPA solve move visibly at 1e-3 (here an overlap of link 5 and the hand;
+    // separated cylinders are solved on their features, mostly to round-off at any tolerance).
     let urdf = data("reference/urdf/panda_collision.urdf");
-    let q = "panda_joint2=0.7,panda_joint4=-1.2,panda_joint6=1.9";
+    let q = "panda_joint4=-0.3";
     let list = |extra: &[&str]| {
         let mut args = vec!["collide", urdf.as_str(), "--q", q, "--closest", "600"];
         args.extend_from_slice(extra);

@@ -1,9 +1,11 @@
 //! The narrow phase of the distance queries on world frames in matrix form: one
 //! quaternion-to-matrix conversion per shape and placement update instead of quaternion algebra
-//! per pair, closed forms for balls against primitives and for cylinders side to side, and the
-//! crate's GJK/EPA for the other primitive pairs. Pairs it does not handle (meshes, other
+//! per pair, closed forms for balls against primitives, the feature solver of
+//! [`crate::cylinders`] for cylinder pairs, and the crate's GJK/EPA for the other primitive pairs
+//! (and the cylinder pairs the solver leaves, overlapping ones among them). Pairs it does not handle (meshes, other
 //! shapes, GJK that does not settle) go through [`proximity`].
 
+use crate::cylinders::{Sides, cylinders};
 use crate::gjk::{Local, signed_distance_mat};
 use crate::narrow::{Kind, Posed, Scratch, Witness, proximity};
 use glam::{DMat3, DVec3};
@@ -73,9 +75,9 @@ pub(crate) fn distance(
             let t12 = rot_t * (fb.origin - fa.origin);
             let local = match (ka, kb) {
                 (Kind::Cylinder(s1), Kind::Cylinder(s2)) => {
-                    match cylinder_sides(rot12.y_axis, t12, s1, s2) {
+                    match cylinders(rot12.y_axis, t12, s1, s2, scratch.polytope.tol) {
                         Sides::Exact(local) => Some(local),
-                        Sides::Fallback(dir) => gjk(&rot12, t12, s1, s2, dir, scratch),
+                        Sides::Fallback(start) => gjk(&rot12, t12, s1, s2, start.dir, scratch),
                     }
                 }
                 (Kind::Cylinder(s1), Kind::Cuboid(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
@@ -265,74 +267,10 @@ fn outside(c: DVec3, p: DVec3) -> (DVec3, DVec3, f64) {
     (p, if l > 0.0 { d / l } else { DVec3::X }, l)
 }
 
-/// Outcome of [`cylinder_sides`].
-pub(crate) enum Sides {
-    /// The exact result.
-    Exact(Local),
-    /// Not a side-to-side configuration: run GJK from this direction.
-    Fallback(DVec3),
-}
-
-/// Two separated cylinders whose closest points lie on both side surfaces, in closed form.
-///
-/// Parry's cylinders lie along their local y axis. Let the axes' common perpendicular meet them
-/// at heights `s` and `t`. When both are strictly within the cylinders' half heights and the
-/// axes are more than `r1 + r2` apart, the points at `r1` and `r2` along the perpendicular are on
-/// the side surfaces and realise the lower bound `|axis distance| - r1 - r2` (every point of a
-/// cylinder is within its radius of its axis), so they are the closest points. Otherwise the
-/// closest points of the clamped axis segments give GJK a good first direction.
-///
-/// `axis2` and `center2` are the second cylinder's axis and centre in the first one's frame.
-pub(crate) fn cylinder_sides(axis2: DVec3, center2: DVec3, c1: &Cylinder, c2: &Cylinder) -> Sides {
-    let cos = axis2.y;
-    let denom = 1.0 - cos * cos;
-    // Axis segments P(s) = s·y, s ∈ [-h1, h1], and Q(t) = center2 + t·axis2, t ∈ [-h2, h2].
-    let (d1, d2) = (-center2.y, -axis2.dot(center2));
-    let (h1, h2) = (c1.half_height, c2.half_height);
-    let fallback = |s: f64| {
-        // The closest points of the axis segments (Ericson, *Real-Time Collision Detection*
-        // 5.1.9): clamp `s`, take the best `t` for it, clamp `t` and redo `s` if needed.
-        let mut s = s.clamp(-h1, h1);
-        let mut t = cos * s + d2;
-        if t.abs() > h2 {
-            t = t.clamp(-h2, h2);
-            s = (cos * t - d1).clamp(-h1, h1);
-        }
-        let d = center2 + axis2 * t - DVec3::Y * s;
-        Sides::Fallback(
-            d.try_normalize()
-                .or_else(|| center2.try_normalize())
-                .unwrap_or(DVec3::X),
-        )
-    };
-    if denom < 1e-8 {
-        // Near-parallel axes: the perpendicular is not unique.
-        return fallback(0.0);
-    }
-    let s = (cos * d2 - d1) / denom;
-    let t = (d2 - cos * d1) / denom;
-    if s.abs() >= h1 || t.abs() >= h2 {
-        return fallback(s);
-    }
-    let p = DVec3::Y * s;
-    let q = center2 + axis2 * t;
-    let d = q - p;
-    let len = d.length();
-    if len <= c1.radius + c2.radius {
-        return fallback(s);
-    }
-    let n = d / len;
-    Sides::Exact((
-        p + n * c1.radius,
-        q - n * c2.radius,
-        n,
-        len - c1.radius - c2.radius,
-    ))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cylinders::cylinder_sides;
     use crate::narrow::Scratch;
     use glam::DQuat;
     use parry3d_f64::math::Vector;

@@ -77,8 +77,8 @@
 //!   files; `pose`: conversions to parry's poses.
 //! - [`batch`]: signed distances of `N` configurations in one call ([`batch::CollisionBatch`]).
 //! - [`query`]: the queries (`plan`: the candidate pairs grouped by shape kinds for the distance
-//!   loops); `narrow`: the narrow phase (closed forms, then `gjk`, the crate's
-//!   GJK/EPA, then parry).
+//!   loops); `narrow`: the narrow phase (closed forms, `cylinders`: cylinder pairs solved on
+//!   their closest features, then `gjk`, the crate's GJK/EPA, then parry).
 //! - `error`: [`CollisionError`].
 //!
 //! ## Optional cargo features
@@ -87,6 +87,7 @@
 
 pub mod batch;
 pub mod build;
+mod cylinders;
 mod data;
 mod error;
 mod frames;

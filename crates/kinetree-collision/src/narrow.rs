@@ -5,7 +5,8 @@
 //! monomorphised over them (inlined support functions); other shapes go through parry's
 //! `dyn Shape` queries.
 
-use crate::frames::{Sides, ball_primitive, cylinder_sides};
+use crate::cylinders::{Sides, cylinder_sides, cylinders};
+use crate::frames::ball_primitive;
 use glam::DVec3;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
@@ -161,9 +162,20 @@ pub(crate) fn proximity(
         (Kind::Cuboid(s), Kind::Ball(ball)) => convex_ball(&pos12, s, ball, max_dist),
         (Kind::Capsule(s), Kind::Ball(ball)) => convex_ball(&pos12, s, ball, max_dist),
         (Kind::Cylinder(s1), Kind::Cylinder(s2)) => {
-            match cylinder_sides(pos12.rotation * Vector::Y, pos12.translation, s1, s2) {
+            // Distance queries: the feature solver; collision queries (a zero bound): the
+            // side-to-side closed form only, then parry's GJK, which counts separations within
+            // its tolerance as contact.
+            let (axis2, center2) = (pos12.rotation * Vector::Y, pos12.translation);
+            let sides = if max_dist > 0.0 {
+                cylinders(axis2, center2, s1, s2, scratch.polytope.tol)
+            } else {
+                cylinder_sides(axis2, center2, s1, s2)
+            };
+            match sides {
                 Sides::Exact(local) => (local.3 <= max_dist).then_some(local),
-                Sides::Fallback(dir) => support_from(&pos12, s1, s2, max_dist, dir, scratch),
+                Sides::Fallback(start) => {
+                    support_from(&pos12, s1, s2, max_dist, start.dir, scratch)
+                }
             }
         }
         (Kind::Cylinder(s1), Kind::Cuboid(s2)) => support(&pos12, s1, s2, max_dist, scratch),

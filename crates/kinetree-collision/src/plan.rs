@@ -5,7 +5,8 @@
 //! goes through [`frames::distance`](crate::frames::distance). Each loop does the same arithmetic
 //! as the general path, so the results are the same bit for bit.
 
-use crate::frames::{Frame, Sides, ball_cylinder, cylinder_sides};
+use crate::cylinders::{Sides, cylinders as solve};
+use crate::frames::{Frame, ball_cylinder};
 use crate::gjk::signed_distance_mat;
 use crate::model::CollisionModel;
 use crate::narrow::{Kind, Scratch, Witness};
@@ -148,10 +149,10 @@ pub(crate) fn cylinders(
     let rot_t = fa.rot.transpose();
     let rot12 = rot_t * fb.rot;
     let t12 = rot_t * (fb.origin - fa.origin);
-    let local = match cylinder_sides(rot12.y_axis, t12, &p.sa, &p.sb) {
+    let local = match solve(rot12.y_axis, t12, &p.sa, &p.sb, scratch.polytope.tol) {
         Sides::Exact(local) => local,
-        Sides::Fallback(dir) => {
-            signed_distance_mat(&rot12, t12, &p.sa, &p.sb, dir, &mut scratch.polytope)?
+        Sides::Fallback(start) => {
+            signed_distance_mat(&rot12, t12, &p.sa, &p.sb, start.dir, &mut scratch.polytope)?
         }
     };
     let (p1, p2, n, distance) = local;
