@@ -255,18 +255,6 @@ fn act_axis<const L: usize>(x: &LSe3<L>, k: usize, revolute: bool) -> LMotion<L>
 fn column<const L: usize>(x: &LSe3<L>, jm: &JointModel, k: usize) -> LMotion<L> {
     match jm.axis_index() {
         Some((a, revolute)) => act_axis(x, a, revolute),
-        // A free joint's columns are the unit twists of the body frame: `act_motion` of them
-        // gives these numbers (up to the sign of a zero) without the products by zero.
-        None if *jm == JointModel::Floating => {
-            if k < 3 {
-                LMotion {
-                    linear: x.rotation.col(k),
-                    angular: LVec3::ZERO,
-                }
-            } else {
-                act_axis(x, k - 3, true)
-            }
-        }
         None => x.act_motion(&LMotion::splat(&jm.subspace_column(k))),
     }
 }
