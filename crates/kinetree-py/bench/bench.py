@@ -23,7 +23,7 @@ into one ``(nlinks, 4, 4)`` array (``np.array([data.oMf[i].homogeneous for i in 
 ``link_placements`` returns. The row "FK (all links), into a buffer" is the other like-for-like
 pair: kinetree's ``link_placements(q, buffer)`` beside ``framesForwardKinematics`` alone, both
 writing into memory made once (Pinocchio's poses then stay in its ``Data``) and both given their
-arguments positionally (as a keyword, ``out=buffer`` costs the abi3 build a dict: ~0.05 µs more).
+arguments positionally (as a keyword, ``out=buffer`` costs the abi3 build a dict: about 0.1 µs more).
 Pinocchio's loops give each state its own ``v`` and ``a`` (or ``tau``), as the batched calls do.
 
 Pinocchio has no IK solver: its row is the closed-loop damped least-squares loop of Pinocchio's
