@@ -1,11 +1,10 @@
 //! The batched analytic derivatives: [`DerivativesBatch`] and [`rnea_derivatives_batch`].
 
 use super::rnea_derivatives::{RneaDerivativesLanes, rnea_derivatives};
-use super::{check_buffer, in_state, states};
+use super::{check_buffer, check_rnea_states, in_state, states};
 use crate::data::{JointTerms, sign};
 use crate::derivatives::DerivativesData;
 use crate::error::DynamicsError;
-use crate::rnea::check_inputs;
 use kinetree_kinematics::batch::{Simd, block_states};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::lanes::Lanes;
@@ -126,17 +125,7 @@ pub fn rnea_derivatives_batch(
     check_buffer("dtau_dq", dtau_dq.len(), n, nn)?;
     check_buffer("dtau_dv", dtau_dv.len(), n, nn)?;
     check_buffer("dtau_da", dtau_da.len(), n, nn)?;
-    for k in 0..n {
-        let r = k * nv..(k + 1) * nv;
-        check_inputs(
-            model,
-            &batch.data.dynamics,
-            &q[k * nq..(k + 1) * nq],
-            Some(&v[r.clone()]),
-            Some(&a[r]),
-        )
-        .map_err(in_state(k))?;
-    }
+    check_rnea_states(model, &batch.data.dynamics, n, q, v, a)?;
     let data = &batch.data;
     let first_bad = kinetree_kinematics::simd_dispatch!(
         batch.simd, RneaDerivativesLanes, &mut batch.lanes4, &mut batch.lanes8, kernel,

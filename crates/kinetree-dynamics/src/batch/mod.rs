@@ -167,6 +167,31 @@ fn states(
     Ok(n)
 }
 
+/// Checks every one of the `n` states `(q, v, a)` as [`rnea`](crate::rnea) does (the buffers'
+/// lengths already checked); an error names the first bad state by its index.
+fn check_rnea_states(
+    model: &Model,
+    data: &DynamicsData,
+    n: usize,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> Result<(), DynamicsError> {
+    let (nq, nv) = (model.nq(), model.nv());
+    for k in 0..n {
+        let r = k * nv..(k + 1) * nv;
+        check_inputs(
+            model,
+            data,
+            &q[k * nq..(k + 1) * nq],
+            Some(&v[r.clone()]),
+            Some(&a[r]),
+        )
+        .map_err(in_state(k))?;
+    }
+    Ok(())
+}
+
 /// Inverse dynamics of `N` states: `tau` (`N · nv`) receives the torques
 /// [`rnea`](crate::rnea) computes for each state `(q, v, a)` (`N · nq`, `N · nv`, `N · nv`).
 /// Allocates nothing.
@@ -189,17 +214,7 @@ pub fn rnea_batch(
     check_buffer("v", v.len(), n, nv)?;
     check_buffer("a", a.len(), n, nv)?;
     check_buffer("tau", tau.len(), n, nv)?;
-    for k in 0..n {
-        let r = k * nv..(k + 1) * nv;
-        check_inputs(
-            model,
-            &batch.data,
-            &q[k * nq..(k + 1) * nq],
-            Some(&v[r.clone()]),
-            Some(&a[r]),
-        )
-        .map_err(in_state(k))?;
-    }
+    check_rnea_states(model, &batch.data, n, q, v, a)?;
     let data = &batch.data;
     kinetree_kinematics::simd_dispatch!(
         batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, rnea_kernel,
