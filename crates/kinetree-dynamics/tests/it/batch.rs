@@ -2,7 +2,7 @@
 //! the one-state algorithms, state by state, on every reference robot and a model with every
 //! joint kind (fixed and floating root) and a placed free joint, for batch sizes that do and do not fill the SIMD lanes.
 
-use crate::common::{all_models, random_state, rng};
+use crate::common::{all_models, stacked_states as states};
 use kinetree_dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
 use kinetree_dynamics::kinematics::batch::{
     KinematicsBatch, Simd, forward_kinematics_batch, frame_jacobian_batch,
@@ -20,21 +20,6 @@ use kinetree_dynamics::{
 
 /// Relative agreement required of every batched result with the one-state one.
 const TOL: f64 = 1e-14;
-
-/// `n` random states of `model`, stacked: q (`n·nq`), v, a (`n·nv`).
-fn states(model: &Model, n: usize, seed: u64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let mut r = rng(seed);
-    let (mut qs, mut vs, mut as_) = (Vec::new(), Vec::new(), Vec::new());
-    for k in 0..n {
-        let (q, v, a) = random_state(model, &mut r);
-        // Some states far from the origin of the joint space too (large angles, fast motion).
-        let scale = if k % 3 == 0 { 7.0 } else { 1.0 };
-        qs.extend(q);
-        vs.extend(v.iter().map(|x| x * scale));
-        as_.extend(a.iter().map(|x| x * scale));
-    }
-    (qs, vs, as_)
-}
 
 /// Asserts `got` equals `want` to [`TOL`] relative to `want`'s largest entry.
 fn assert_rel(got: &[f64], want: &[f64], what: &str) {

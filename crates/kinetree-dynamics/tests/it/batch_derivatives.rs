@@ -2,7 +2,7 @@
 //! state, on every reference robot and the every-joint-kind models, on every lane width, with
 //! and without the joint terms; and their errors.
 
-use crate::common::{all_models, random_state, rng};
+use crate::common::{all_models, stacked_states as states};
 use kinetree_dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
 use kinetree_dynamics::kinematics::batch::Simd;
 use kinetree_dynamics::model::{Model, RootJoint};
@@ -13,20 +13,6 @@ const SIMD: [Simd; 3] = [Simd::Portable, Simd::Avx2, Simd::Avx512];
 
 /// Batch sizes: one state, lane widths and their neighbours, and a size no lane width divides.
 const SIZES: [usize; 5] = [1, 4, 8, 9, 19];
-
-/// `n` random states of `model`, stacked (every third one fast and far from the origin).
-fn states(model: &Model, n: usize, seed: u64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let mut r = rng(seed);
-    let (mut qs, mut vs, mut as_) = (Vec::new(), Vec::new(), Vec::new());
-    for k in 0..n {
-        let (q, v, a) = random_state(model, &mut r);
-        let scale = if k % 3 == 0 { 7.0 } else { 1.0 };
-        qs.extend(q);
-        vs.extend(v.iter().map(|x| x * scale));
-        as_.extend(a.iter().map(|x| x * scale));
-    }
-    (qs, vs, as_)
-}
 
 /// Asserts `got` equals `want` bit for bit: the lane kernel repeats the one-state arithmetic in
 /// the same order.

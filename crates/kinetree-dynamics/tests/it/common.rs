@@ -51,6 +51,21 @@ pub(crate) fn random_state(model: &Model, rng: &mut SmallRng) -> (Vec<f64>, Vec<
     (q, v, a)
 }
 
+/// `n` random states of `model`, stacked: q (`n·nq`), v, a (`n·nv`); every third one is far
+/// from the origin of the joint space (velocities and accelerations scaled by 7).
+pub(crate) fn stacked_states(model: &Model, n: usize, seed: u64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut r = rng(seed);
+    let (mut qs, mut vs, mut as_) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..n {
+        let (q, v, a) = random_state(model, &mut r);
+        let scale = if k % 3 == 0 { 7.0 } else { 1.0 };
+        qs.extend(q);
+        vs.extend(v.iter().map(|x| x * scale));
+        as_.extend(a.iter().map(|x| x * scale));
+    }
+    (qs, vs, as_)
+}
+
 pub(crate) fn rng(seed: u64) -> SmallRng {
     SmallRng::seed_from_u64(seed)
 }
