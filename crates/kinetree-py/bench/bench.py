@@ -25,6 +25,10 @@ pair: kinetree's ``link_placements(q, buffer)`` beside ``framesForwardKinematics
 writing into memory made once (Pinocchio's poses then stay in its ``Data``) and both given their
 arguments positionally (as a keyword, ``out=buffer`` costs the abi3 build a dict: about 0.1 µs more).
 Pinocchio's loops give each state its own ``v`` and ``a`` (or ``tau``), as the batched calls do.
+kinetree's batched frame Jacobian, RNEA, CRBA and ABA (and FK in the buffer row) write into
+stacked arrays made once, as a sampling loop or a dataset writer reuses its buffers, and as
+Pinocchio's loop reuses its ``Data``: a fresh ``(N, nv, nv)`` result would add the kernel's zeroing
+of its pages on first touch (``--fresh`` times that variant instead).
 
 Pinocchio has no IK solver: its row is the closed-loop damped least-squares loop of Pinocchio's
 documentation (``log6`` error, ``computeFrameJacobian``, ``integrate``) run to the same
@@ -106,6 +110,8 @@ def main():
     parser.add_argument("--robots", default=",".join(ROBOTS))
     parser.add_argument("--calls", default="",
                         help="comma-separated prefixes of the rows to run (\"FK,RNEA\"); all by default")
+    parser.add_argument("--fresh", action="store_true",
+                        help="batched calls return new arrays instead of writing into buffers made once")
     parser.add_argument("--rounds", type=int, default=3,
                         help="interleaved rounds per timing (more rounds: a steadier minimum on a busy machine)")
     args = parser.parse_args()
@@ -148,6 +154,9 @@ def main():
                 return np.array([pd.oMf[i].homogeneous for i in links])
         buffer = np.empty((len(m.link_names), 4, 4))
         buffers = np.empty((N, len(m.link_names), 4, 4))
+        # Stacked outputs made once (None with --fresh: each batched call returns new arrays).
+        jacobians, torques, masses = ((None, None, None) if args.fresh else
+                                      (np.empty((N, 6, m.nv)), np.empty((N, m.nv)), np.empty((N, m.nv, m.nv))))
         calls = {
             "FK (all links)": (lambda: m.link_placements(q), lambda: m.link_placements(Q),
                                (lambda: pin_poses(pq)) if pin else None,
@@ -156,16 +165,16 @@ def main():
                 lambda: m.link_placements(q, buffer), lambda: m.link_placements(Q, buffers),
                 (lambda: pin.framesForwardKinematics(pm, pd, pq)) if pin else None,
                 (lambda: [pin.framesForwardKinematics(pm, pd, x) for x in PQ]) if pin else None),
-            "frame Jacobian": (lambda: m.frame_jacobian(q, frame), lambda: m.frame_jacobian(Q, frame),
+            "frame Jacobian": (lambda: m.frame_jacobian(q, frame), lambda: m.frame_jacobian(Q, frame, out=jacobians),
                                (lambda: pin.computeFrameJacobian(pm, pd, pq, fid, lwa)) if pin else None,
                                (lambda: [pin.computeFrameJacobian(pm, pd, x, fid, lwa) for x in PQ]) if pin else None),
-            "RNEA": (lambda: m.rnea(q, v, a), lambda: m.rnea(Q, V, A),
+            "RNEA": (lambda: m.rnea(q, v, a), lambda: m.rnea(Q, V, A, out=torques),
                      (lambda: pin.rnea(pm, pd, pq, pv, pa)) if pin else None,
                      (lambda: [pin.rnea(pm, pd, x, y, z) for x, y, z in zip(PQ, PV, PA)]) if pin else None),
-            "CRBA": (lambda: m.crba(q), lambda: m.crba(Q),
+            "CRBA": (lambda: m.crba(q), lambda: m.crba(Q, out=masses),
                      (lambda: pin.crba(pm, pd, pq)) if pin else None,
                      (lambda: [pin.crba(pm, pd, x) for x in PQ]) if pin else None),
-            "ABA": (lambda: m.aba(q, v, a), lambda: m.aba(Q, V, A),
+            "ABA": (lambda: m.aba(q, v, a), lambda: m.aba(Q, V, A, out=torques),
                     (lambda: pin.aba(pm, pd, pq, pv, pa)) if pin else None,
                     (lambda: [pin.aba(pm, pd, x, y, z) for x, y, z in zip(PQ, PV, PA)]) if pin else None),
             "RNEA derivatives": (lambda: m.rnea_derivatives(q, v, a), lambda: m.rnea_derivatives(Qd, Vd, Ad),
@@ -207,7 +216,8 @@ def main():
 
     print()
     print(f"Load average {load_before:.1f} before, {os.getloadavg()[0]:.1f} after; {os.cpu_count()} cores; "
-          f"N = {N} ({N_DERIVATIVES} for the derivatives); times in µs per call or per state.")
+          f"N = {N} ({N_DERIVATIVES} for the derivatives); times in µs per call or per state; "
+          f"batched results {'in new arrays' if args.fresh else 'written into buffers made once'}.")
     print()
     print(markdown(rows, pin is not None))
 
