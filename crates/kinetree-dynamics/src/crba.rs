@@ -1,9 +1,8 @@
 //! The joint-space mass matrix: the composite rigid-body algorithm.
 
-use crate::data::DynamicsData;
+use crate::data::{AncestorStep, DynamicsData};
 use crate::error::DynamicsError;
 use crate::rnea::check_inputs;
-use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::{Force, Se3};
@@ -104,12 +103,12 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
             joint_models[i].placed_transform_factored(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
         kin.parent_from_body[i] = x;
         data.joint_rot[i] = jr;
-        data.composite[i] = data.body_inertia[i];
     }
     let (joint_models, parent_from_body) = (
         data.kinematics.joint_models(),
         data.kinematics.parent_from_body(),
     );
+    let steps = &data.ancestor_step[..];
     let m = &mut data.mass_matrix;
     let mut f = [Force::ZERO; 6];
     let mut col = [0.0; 6];
@@ -117,7 +116,12 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
     for i in (1..bodies.len()).rev() {
         let b = &bodies[i];
         let (iv, ni) = (b.idx_v, b.nv);
-        let ic = data.composite[i];
+        // A leaf's composite inertia is its own; the others were started by their last child.
+        let ic = if steps[i].leaf {
+            data.body_inertia[i]
+        } else {
+            data.composite[i]
+        };
         // F = Icᵢ·Sᵢ and the diagonal block Sᵢᵀ·Icᵢ·Sᵢ.
         let jm = &joint_models[i];
         let f0 = match jm.axis_momentum(&ic) {
@@ -146,46 +150,41 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
             }
             let mut j = i;
             loop {
-                let p = bodies[j].parent;
-                if p == 0 {
+                let step = steps[j];
+                if step.parent == 0 {
                     break;
                 }
                 let x = &parent_from_body[j];
-                if bodies[p].parent == 0
-                    && let Some(axis) = joint_models[p].axis_index()
-                {
+                let jv = step.parent_v;
+                if step.last {
                     // The last ancestor, about or along a coordinate axis: only its component
                     // of the moved force is needed.
-                    let v = axis_component(x, &fk, axis);
-                    let jv = bodies[p].idx_v;
+                    let v = axis_component(x, &fk, step.kind);
                     probe += v;
                     m[jv * nv + iv] = v;
                     m[iv * nv + jv] = v;
                     break;
                 }
                 fk = x.act_force(&fk);
-                j = p;
-                let jv = bodies[j].idx_v;
-                match joint_models[j].project_axis(&fk) {
-                    Some(x) => {
-                        probe += x;
-                        m[jv * nv + iv] = x;
-                        m[iv * nv + jv] = x;
+                j = step.parent;
+                if step.kind < AncestorStep::FLOATING {
+                    let v = component(&fk, step.kind);
+                    probe += v;
+                    m[jv * nv + iv] = v;
+                    m[iv * nv + jv] = v;
+                } else {
+                    let nj = bodies[j].nv;
+                    if step.kind == AncestorStep::FLOATING {
+                        // A floating base's rows are the wrench itself (inlined: every
+                        // column of a floating-base robot ends here).
+                        col[..6].copy_from_slice(&fk.to_array());
+                    } else {
+                        joint_models[j].project_force(&fk, &mut col[..nj]);
                     }
-                    None => {
-                        let nj = bodies[j].nv;
-                        if joint_models[j] == JointModel::Floating {
-                            // A floating base's rows are the wrench itself (inlined: every
-                            // column of a floating-base robot ends here).
-                            col[..6].copy_from_slice(&fk.to_array());
-                        } else {
-                            joint_models[j].project_force(&fk, &mut col[..nj]);
-                        }
-                        for l in 0..nj {
-                            probe += col[l];
-                            m[(jv + l) * nv + iv] = col[l];
-                            m[iv * nv + jv + l] = col[l];
-                        }
+                    for l in 0..nj {
+                        probe += col[l];
+                        m[(jv + l) * nv + iv] = col[l];
+                        m[iv * nv + jv + l] = col[l];
                     }
                 }
             }
@@ -218,7 +217,13 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
                 &data.placement_rot[i],
                 &parent_from_body[i],
             );
-            data.composite[b.parent].add_assign(&moved);
+            if steps[i].opens_parent {
+                let mut c = data.body_inertia[b.parent];
+                c.add_assign(&moved);
+                data.composite[b.parent] = c;
+            } else {
+                data.composite[b.parent].add_assign(&moved);
+            }
         }
     }
     if data.has_joint_terms {
@@ -230,11 +235,30 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
     probe
 }
 
-/// Component `axis` (as [`JointModel::axis_index`]: the angular component `k` when `true`, else
-/// the linear one) of `x.act_force(f)`, with the same operations in the same order, so it equals
-/// that component of the whole product bit for bit at a third of its cost.
+/// Component `c` of a force in `[linear; angular]` order (`c < 6`), as
+/// [`JointModel::project_axis`] reads it.
 #[inline(always)]
-fn axis_component(x: &Se3, f: &Force, (k, angular): (usize, bool)) -> f64 {
+fn component(f: &Force, c: u8) -> f64 {
+    match c {
+        0 => f.linear.x,
+        1 => f.linear.y,
+        2 => f.linear.z,
+        3 => f.angular.x,
+        4 => f.angular.y,
+        _ => f.angular.z,
+    }
+}
+
+/// Component `c` (`[linear; angular]` order, `c < 6`) of `x.act_force(f)`, with the same
+/// operations in the same order, so it equals that component of the whole product bit for bit at
+/// a third of its cost.
+#[inline(always)]
+fn axis_component(x: &Se3, f: &Force, c: u8) -> f64 {
+    let (k, angular) = if c < 3 {
+        (usize::from(c), false)
+    } else {
+        (usize::from(c - 3), true)
+    };
     let r = &x.rotation;
     // Row `i` of `R·v`, summed as `DMat3 * DVec3` sums its columns.
     let row = |i: usize, v: DVec3| (r.x_axis[i] * v.x + r.y_axis[i] * v.y) + r.z_axis[i] * v.z;
@@ -261,14 +285,14 @@ mod tests {
         let x = Se3::from_xyz_rpy([0.31, -0.27, 0.093], [0.4, -1.1, 2.3]);
         let f = Force::from_array([0.7, -1.9, 0.35, -0.21, 1.3, 0.77]);
         let whole = x.act_force(&f).to_array();
-        for k in 0..3 {
+        for k in 0..3u8 {
             assert_eq!(
-                axis_component(&x, &f, (k, false)).to_bits(),
-                whole[k].to_bits()
+                axis_component(&x, &f, k).to_bits(),
+                whole[k as usize].to_bits()
             );
             assert_eq!(
-                axis_component(&x, &f, (k, true)).to_bits(),
-                whole[3 + k].to_bits()
+                axis_component(&x, &f, 3 + k).to_bits(),
+                whole[3 + k as usize].to_bits()
             );
         }
     }

@@ -2,6 +2,7 @@
 
 use crate::aba::ArticulatedInertia;
 use crate::error::DynamicsError;
+use kinetree_kinematics::JointModel;
 use kinetree_kinematics::KinematicsData;
 use kinetree_kinematics::joint::JointRot;
 use kinetree_kinematics::model::Model;
@@ -10,6 +11,77 @@ use kinetree_kinematics::spatial::{Force, Motion, OriginInertia, RotationForm};
 
 /// Marks "no parent" in the degree-of-freedom parent array.
 pub(crate) const NO_PARENT: usize = usize::MAX;
+
+/// CRBA's step from a body `j` to its parent `p` while a force column is carried up to every
+/// ancestor: the few numbers that walk reads, kept apart from the large [`Body`] records.
+///
+/// [`Body`]: kinetree_kinematics::model::Body
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct AncestorStep {
+    /// The parent `p` (0: `j` hangs from the root, and the walk ends at `j`).
+    pub(crate) parent: usize,
+    /// `p`'s first velocity index.
+    pub(crate) parent_v: usize,
+    /// How `p`'s rows read a force: `0..6` the single component (`[linear; angular]` order) of a
+    /// joint about or along a coordinate axis, else [`AncestorStep::FLOATING`] or
+    /// [`AncestorStep::GENERAL`].
+    pub(crate) kind: u8,
+    /// `p` has an axis kind and hangs from the root: its entry is the last of the walk.
+    pub(crate) last: bool,
+    /// `j` has no child: its composite inertia is its own.
+    pub(crate) leaf: bool,
+    /// `j` is `p`'s last child (highest index), the first the backward sweep reaches: its moved
+    /// composite inertia starts `p`'s sum (`p`'s own inertia plus it).
+    pub(crate) opens_parent: bool,
+}
+
+impl AncestorStep {
+    /// `kind` of a floating parent: its rows are the wrench itself.
+    pub(crate) const FLOATING: u8 = 6;
+    /// `kind` of any other parent: `JointModel::project_force`.
+    pub(crate) const GENERAL: u8 = 7;
+
+    fn table(model: &Model) -> Vec<Self> {
+        let bodies = model.bodies();
+        let joint_models: Vec<JointModel> = bodies.iter().map(JointModel::from_body).collect();
+        // The last child of each body (0: none).
+        let mut last_child = vec![0; bodies.len()];
+        for (i, b) in bodies.iter().enumerate().skip(1) {
+            last_child[b.parent] = i;
+        }
+        bodies
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let p = b.parent;
+                let (leaf, opens_parent) = (last_child[i] == 0, i > 0 && last_child[p] == i);
+                if p == 0 {
+                    return Self {
+                        parent: 0,
+                        parent_v: 0,
+                        kind: Self::GENERAL,
+                        last: false,
+                        leaf,
+                        opens_parent,
+                    };
+                }
+                let kind = match joint_models[p].axis_index() {
+                    Some((k, angular)) => (k + 3 * usize::from(angular)) as u8,
+                    None if joint_models[p] == JointModel::Floating => Self::FLOATING,
+                    None => Self::GENERAL,
+                };
+                Self {
+                    parent: p,
+                    parent_v: bodies[p].idx_v,
+                    kind,
+                    last: kind < 6 && bodies[p].parent == 0,
+                    leaf,
+                    opens_parent,
+                }
+            })
+            .collect()
+    }
+}
 
 /// Whether the joints' damping, friction and armature ([`JointDynamics`]) enter the equations of
 /// motion.
@@ -76,6 +148,8 @@ pub struct DynamicsData {
     pub(crate) dof_body: Vec<usize>,
     /// Parent degree of freedom (Featherstone's λ for the mass matrix sparsity), or `NO_PARENT`.
     pub(crate) dof_parent: Vec<usize>,
+    /// Per body: CRBA's step from it to its parent (see [`AncestorStep`]).
+    pub(crate) ancestor_step: Vec<AncestorStep>,
     // Per body.
     // Placements and body velocities live in `kinematics`. ABA's world-frame velocities and the
     // spatial accelerations of RNEA (body frame) and ABA (world frame), which include gravity
@@ -180,6 +254,7 @@ impl DynamicsData {
             friction: vec![0.0; nv],
             dof_body,
             dof_parent,
+            ancestor_step: AncestorStep::table(model),
             world_velocity: vec![Motion::ZERO; nb],
             acceleration: vec![Motion::ZERO; nb],
             force: vec![Force::ZERO; nb],
