@@ -2,7 +2,8 @@
 //! ([`map_states`], wrapped by [`run`] and [`run_blocks`]; calls with several results per state
 //! use [`crate::parts`]).
 //!
-//! Every per-state call takes one state (`q` of shape `(nq,)`) or a stack (`(N, nq)`). One state
+//! Every per-state call takes one state (`q` of shape `(nq,)`) or a stack (`(N, nq)`; a large one
+//! read in place, see [`crate::values`]). One state
 //! runs directly, with a workspace from the model's [`Pool`]; a stack runs in parallel (rayon)
 //! with the GIL released, in a few contiguous blocks with one pooled workspace each, so each
 //! state gets exactly the arithmetic of a one-state call. Results are written straight into the
@@ -11,6 +12,7 @@
 use crate::errors::{Family, family_of, to_py};
 use crate::model::PyModel;
 use crate::scratch::Scratch;
+use crate::values::{SharedArray, Values, address_range};
 use kinetree::dynamics::DynamicsData;
 use numpy::ndarray::{ArrayD, ArrayViewD, IxDyn};
 use numpy::{
@@ -32,8 +34,8 @@ pub(crate) type ArrayPair<'py> = (
 /// One input: a single state or a stack of states, each `width` numbers, all finite.
 #[derive(Debug)]
 pub(crate) struct States {
-    /// Row-major values, `width` per state.
-    pub(crate) values: Vec<f64>,
+    /// Row-major values, `width` per state (a copy, or a large stack's own memory).
+    pub(crate) values: Values,
     /// Numbers per state.
     pub(crate) width: usize,
     /// `None` for one state (a 1-D array), `Some(N)` for a stack (a 2-D array).
@@ -46,6 +48,18 @@ impl States {
     /// The values of state `i` (the only state when not stacked).
     pub(crate) fn state(&self, i: usize) -> &[f64] {
         &self.values[i * self.width..(i + 1) * self.width]
+    }
+
+    /// The same states with their values copied (refused when the copy does not fit in memory).
+    pub(crate) fn copied(&self, family: Family) -> PyResult<Self> {
+        let mut values = reserve(self.values.len(), self.name, family)?;
+        values.extend_from_slice(&self.values);
+        Ok(Self {
+            values: Values::Owned(values),
+            width: self.width,
+            count: self.count,
+            name: self.name,
+        })
     }
 }
 
@@ -60,29 +74,34 @@ pub(crate) fn states(
     width: usize,
     family: Family,
 ) -> PyResult<States> {
-    let values = match obj.cast::<PyArrayDyn<f64>>() {
-        Ok(array) if array.is_c_contiguous() && array.len() <= SMALL_INPUT => {
-            // A small copy needs no memory check, nor numpy's borrow tracking: the GIL is held.
-            let count = count_of(array.shape(), name, width, family)?;
-            let values = array.to_vec().map_err(|e| {
-                family.err(format!("{name} cannot be read as a float64 buffer: {e}"))
-            })?;
-            (values, count)
-        }
+    let (values, count) = match obj.cast::<PyArrayDyn<f64>>() {
         Ok(array) if array.is_c_contiguous() => {
             let count = count_of(array.shape(), name, width, family)?;
             let unreadable = |e: &dyn std::fmt::Display| {
                 family.err(format!("{name} cannot be read as a float64 buffer: {e}"))
             };
-            let readonly = array.try_readonly().map_err(|e| unreadable(&e))?;
-            let slice = readonly.as_slice().map_err(|e| unreadable(&e))?;
-            let mut values = reserve(slice.len(), name, family)?;
-            values.extend_from_slice(slice);
-            (values, count)
+            if array.len() <= SMALL_INPUT {
+                // A small copy needs no memory check, nor numpy's borrow tracking: the GIL is held.
+                (
+                    Values::Owned(array.to_vec().map_err(|e| unreadable(&e))?),
+                    count,
+                )
+            } else if let Some(shared) = SharedArray::new(array).filter(|_| count.is_some()) {
+                // A large stack is read in place (see `crate::values`).
+                (Values::Shared(shared), count)
+            } else {
+                let readonly = array.try_readonly().map_err(|e| unreadable(&e))?;
+                let slice = readonly.as_slice().map_err(|e| unreadable(&e))?;
+                let mut values = reserve(slice.len(), name, family)?;
+                values.extend_from_slice(slice);
+                (Values::Owned(values), count)
+            }
         }
-        _ => converted(obj, name, width, family)?,
+        _ => {
+            let (values, count) = converted(obj, name, width, family)?;
+            (Values::Owned(values), count)
+        }
     };
-    let (values, count) = values;
     if let Some(k) = values.iter().position(|x| !x.is_finite()) {
         let at = if count.is_some() && width > 0 {
             format!("[{}, {}]", k / width, k % width)
@@ -102,8 +121,9 @@ pub(crate) fn states(
     })
 }
 
-/// Inputs of at most this many numbers are copied without a check that the copy fits in memory.
-const SMALL_INPUT: usize = 1 << 16;
+/// Inputs of at most this many numbers are copied, without a check that the copy fits in memory;
+/// a larger stack is read in place (a copy of it costs page faults: see `crate::values`).
+const SMALL_INPUT: usize = 1 << 12;
 
 /// The expected shape of argument `name`, for messages.
 fn expected(width: usize) -> String {
@@ -555,7 +575,27 @@ where
         let values = writable.as_slice_mut()?;
         match count {
             None => one(values)?,
-            Some(n) => map_stack(py, model, inputs, n, size, values, &f)?,
+            Some(n) => {
+                // The results are written while the inputs are read: an input read in place
+                // from memory that `out` shares is copied first.
+                let target = address_range(values);
+                let copies: Vec<Option<States>> = inputs
+                    .iter()
+                    .map(|s| {
+                        let shared = s.values.shared_range();
+                        shared
+                            .filter(|r| r.start < target.end && target.start < r.end)
+                            .map(|_| s.copied(family))
+                            .transpose()
+                    })
+                    .collect::<PyResult<_>>()?;
+                let inputs: Vec<&States> = inputs
+                    .iter()
+                    .zip(&copies)
+                    .map(|(s, copy)| copy.as_ref().unwrap_or(s))
+                    .collect();
+                map_stack(py, model, &inputs, n, size, values, &f)?;
+            }
         }
     }
     Ok((array, count))

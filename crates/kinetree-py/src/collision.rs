@@ -459,7 +459,7 @@ impl PyCollisionModel {
         if q.count.is_some() {
             return Err(F.err("this query takes one configuration of shape (nq,)"));
         }
-        Ok(q.values)
+        Ok(q.values.into_vec())
     }
 }
 

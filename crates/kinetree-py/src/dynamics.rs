@@ -9,6 +9,7 @@ use crate::errors::{Family, py_err};
 use crate::model::PyModel;
 use crate::parts::{run_parts, run_parts_batched};
 use crate::scratch::new_data;
+use crate::values::Values;
 use kinetree::dynamics::batch::{
     DerivativesBatch, aba_batch, crba_batch, rnea_batch, rnea_derivatives_batch,
 };
@@ -383,7 +384,7 @@ impl PyModel {
         let tau: States = match tau {
             Some(t) => states(t, "tau", nv, F)?,
             None => States {
-                values: vec![0.0; nv],
+                values: Values::Owned(vec![0.0; nv]),
                 width: nv,
                 count: None,
                 name: "tau",
@@ -412,7 +413,7 @@ impl PyModel {
         let (qs, vs) = py
             .detach(|| {
                 let mut data = new_data(model);
-                let (mut q, mut v) = (q0.values.clone(), v0.values.clone());
+                let (mut q, mut v) = (q0.values.to_vec(), v0.values.to_vec());
                 qs.extend_from_slice(&q);
                 vs.extend_from_slice(&v);
                 for i in 0..steps {

@@ -372,7 +372,7 @@ impl PyIkSolver {
                 IkSolver::new(&self.model, IkParams::default())
                     .set_posture(&self.model, &s.values, gain)
                     .map_err(|e| to_py(&e.into(), true))?;
-                Some((s.values, gain))
+                Some((s.values.into_vec(), gain))
             }
         };
         self.settings
@@ -462,7 +462,7 @@ impl PyIkSolver {
         let starts = match self.q0(q0)? {
             None => vec![self.start(None)?; 1],
             Some(s) => match s.count {
-                None => vec![s.values],
+                None => vec![s.values.into_vec()],
                 Some(m) if m == n => (0..n).map(|i| s.state(i).to_vec()).collect(),
                 Some(m) => return Err(F.err(format!("q0 stacks {m} states for {n} goals"))),
             },
@@ -523,7 +523,7 @@ impl PyIkSolver {
             None => Ok(kinetree::kinematics::configuration::neutral_configuration(
                 &self.model,
             )),
-            Some(s) if s.count.is_none() => Ok(s.values),
+            Some(s) if s.count.is_none() => Ok(s.values.into_vec()),
             Some(_) => Err(F.err("q0 must be one configuration of shape (nq,) here")),
         }
     }

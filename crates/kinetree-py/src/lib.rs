@@ -35,6 +35,7 @@ mod kinematics;
 mod model;
 mod parts;
 mod scratch;
+mod values;
 mod workspace;
 
 use pyo3::prelude::*;

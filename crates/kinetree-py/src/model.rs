@@ -605,7 +605,7 @@ impl PyModel {
                 if s.count.is_some() {
                     return Err(Family::Kinematics.err("base must be one state of shape (nq,)"));
                 }
-                s.values
+                s.values.into_vec()
             }
             None => configuration::neutral_configuration(&self.model),
         };

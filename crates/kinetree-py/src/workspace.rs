@@ -64,7 +64,7 @@ impl PyModel {
             if s.count.is_some() {
                 return Err(F.err("q0 must be one configuration of shape (nq,)"));
             }
-            params = params.with_q0(s.values);
+            params = params.with_q0(s.values.into_vec());
         }
         let model = &*self.model;
         let set = py

@@ -31,7 +31,8 @@ def states(model, n, seed=0):
 
 @pytest.mark.parametrize("method", sorted(CALLS))
 @pytest.mark.parametrize("robot", ["panda", "talos"])
-@pytest.mark.parametrize("n", [None, 3, 64])  # one state, a stack run inline, a parallel stack
+# one state, a stack run inline, a parallel stack (copied), a stack read in place (> 4096 numbers)
+@pytest.mark.parametrize("n", [None, 3, 64, 600])
 def test_out_equals_the_returned_result(method, robot, n, request):
     model = request.getfixturevalue(robot)
     args_of, shape_of = CALLS[method]
@@ -56,6 +57,44 @@ def test_out_may_be_an_input(panda):
     tau = panda.rnea(q, v, a)
     panda.rnea(q, v, a, out=v)  # the inputs are read before the result is written
     assert np.array_equal(v, tau)
+
+
+@pytest.mark.parametrize("n", [64, 600])  # inputs copied, inputs read in place
+def test_a_stacked_out_may_share_memory_with_an_input(n, panda):
+    Q, V, A = states(panda, n)
+    expected = panda.rnea(Q, V, A)
+    # out is an input
+    v = V.copy()
+    assert panda.rnea(Q, v, A, out=v) is v
+    assert np.array_equal(v, expected)
+    # out overlaps half of an input, shifted by half a stack: every state reads its own inputs
+    memory = np.zeros((n + n // 2, panda.nv))
+    memory[:n] = V
+    out = memory[n // 2:]
+    panda.rnea(Q, memory[:n], A, out=out)
+    assert np.array_equal(out, expected)
+    # the same for CRBA, whose results are larger than its inputs
+    M = panda.crba(Q)
+    memory = np.zeros(n * panda.nv * panda.nv)
+    memory[:Q.size] = Q.ravel()
+    out = memory.reshape(n, panda.nv, panda.nv)
+    panda.crba(memory[:Q.size].reshape(Q.shape), out=out)
+    assert np.array_equal(out, M)
+
+
+@pytest.mark.parametrize("method", sorted(CALLS))
+def test_a_stack_read_in_place_equals_one_state_at_a_time(method, talos):
+    """A large stack (read in place, not copied) gives every state its one-state result, also
+    when the stack is a strided view (copied) or a slice of a larger array (read in place)."""
+    args_of, _ = CALLS[method]
+    Q, V, A = states(talos, 400)
+    one = np.array([getattr(talos, method)(*args_of(talos, q, v, a)) for q, v, a in zip(Q, V, A)])
+    assert np.array_equal(getattr(talos, method)(*args_of(talos, Q, V, A)), one)
+    strided = [np.repeat(x, 2, axis=0)[::2] for x in (Q, V, A)]
+    assert not strided[0].flags.c_contiguous
+    assert np.array_equal(getattr(talos, method)(*args_of(talos, *strided)), one)
+    inner = [np.vstack([x, x])[len(Q):] for x in (Q, V, A)]
+    assert np.array_equal(getattr(talos, method)(*args_of(talos, *inner)), one)
 
 
 @pytest.mark.parametrize("method", sorted(CALLS))
