@@ -3,7 +3,7 @@
 
 use super::params::IkParams;
 use glam::{DMat3, DVec3};
-use kinetree_model::spatial::{Motion, Se3};
+use kinetree_model::spatial::{Motion, RotationForm, Se3};
 
 /// The limits of the configuration coordinate a velocity coordinate drives (infinite when none).
 #[derive(Clone, Copy, Debug)]
@@ -56,6 +56,23 @@ impl TargetState {
     };
 }
 
+/// How the residual's forward pass places one body of the path.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PathBody {
+    pub(super) body: usize,
+    pub(super) parent: usize,
+    /// Its configuration coordinate (when `axis < 3`).
+    pub(super) qi: usize,
+    /// 0, 1, 2: a revolute joint about that coordinate axis, not a mimic, under another body,
+    /// placed as `world_from_parent · placement · R_axis(q)` with the placement rotation in
+    /// `place`; 3: any other joint (its general transform).
+    pub(super) axis: u8,
+    pub(super) place: RotationForm,
+}
+
+/// How a moving velocity coordinate's Jacobian column is formed.
+pub(super) const COLUMN_GENERAL: u8 = 6;
+
 /// The cost and errors of one configuration.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Eval {
@@ -83,8 +100,8 @@ impl Eval {
 pub(super) struct Workspace {
     /// Per body: on the path from the root to a target (its placement is needed).
     pub(super) marked: Vec<bool>,
-    /// The marked bodies, in increasing order.
-    pub(super) path: Vec<usize>,
+    /// The marked bodies, in increasing order, and how each is placed.
+    pub(super) path: Vec<PathBody>,
     /// Per body: owns a coordinate that moves a target (directly or through a coupled mimic
     /// follower).
     pub(super) owner: Vec<bool>,
@@ -97,6 +114,14 @@ pub(super) struct Workspace {
     pub(super) dofs: Vec<usize>,
     pub(super) dof_body: Vec<usize>,
     pub(super) dof_axis: Vec<Motion>,
+    /// Per moving coordinate: 0, 1, 2 for a revolute joint about that coordinate axis, 3, 4, 5
+    /// for a prismatic joint along axis `kind - 3`, [`COLUMN_GENERAL`] for any other.
+    pub(super) dof_kind: Vec<u8>,
+    /// Per moving coordinate: its configuration coordinate, when `additive`.
+    pub(super) dof_q: Vec<usize>,
+    /// Every moving joint is a vector space (revolute, continuous, prismatic, cylindrical), so
+    /// `q ⊕ dq` adds `dq[c]` to coordinate `dof_q[c]`.
+    pub(super) additive: bool,
     pub(super) targets: Vec<TargetState>,
     pub(super) ntargets: usize,
     /// Number of residual rows.
@@ -139,6 +164,9 @@ impl Workspace {
             dofs: Vec::with_capacity(nv),
             dof_body: Vec::with_capacity(nv),
             dof_axis: Vec::with_capacity(nv),
+            dof_kind: Vec::with_capacity(nv),
+            dof_q: Vec::with_capacity(nv),
+            additive: false,
             targets: vec![TargetState::EMPTY; max_targets],
             ntargets: 0,
             m: 0,

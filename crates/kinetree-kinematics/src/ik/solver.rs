@@ -30,8 +30,8 @@ use crate::error::{KinematicsError, check_vector};
 use crate::forward::{forward_kinematics, update_frame_placements};
 use crate::joint::JointModel;
 use glam::DQuat;
-use kinetree_model::spatial::Motion;
 use kinetree_model::spatial::rotation::{is_rotation, orthonormalize};
+use kinetree_model::spatial::{Motion, RotationForm};
 use kinetree_model::{JointKind, Model};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
@@ -39,7 +39,7 @@ use std::f64::consts::PI;
 use std::fmt;
 use std::time::Instant;
 
-use super::scratch::{DofBound, Eval, TargetState, Workspace};
+use super::scratch::{COLUMN_GENERAL, DofBound, Eval, PathBody, TargetState, Workspace};
 use super::step::{MU_MAX, MU_MIN, clamp_moving, step, within_limits};
 
 /// The largest target coordinate (m) or weight the solver takes: squared weighted residuals
@@ -617,6 +617,9 @@ impl IkSolver {
         ws.dofs.clear();
         ws.dof_body.clear();
         ws.dof_axis.clear();
+        ws.dof_kind.clear();
+        ws.dof_q.clear();
+        ws.additive = true;
         ws.followers.clear();
         // The coordinates that move a target: those of the marked bodies, and the leaders of
         // marked coupled mimic followers.
@@ -630,15 +633,42 @@ impl IkSolver {
             }
         }
         for (i, b) in bodies.iter().enumerate().skip(1) {
+            let joint = JointModel::from_body(b);
             if ws.marked[i] {
-                ws.path.push(i);
+                let axis = match joint.axis_index() {
+                    Some((k, true)) if b.parent != 0 && b.mimic.is_none() => k as u8,
+                    _ => 3,
+                };
+                ws.path.push(PathBody {
+                    body: i,
+                    parent: b.parent,
+                    qi: b.idx_q,
+                    axis,
+                    place: RotationForm::classify(&b.placement.rotation),
+                });
             }
             if ws.owner[i] && self.allowed[i] && b.nv > 0 {
                 ws.moving.push(i);
+                let additive = matches!(
+                    b.kind,
+                    JointKind::Revolute
+                        | JointKind::Continuous
+                        | JointKind::Prismatic
+                        | JointKind::Cylindrical
+                ) && b.nq == b.nv;
+                ws.additive &= additive;
+                let kind = match joint.axis_index() {
+                    Some((k, true)) => k as u8,
+                    Some((k, false)) => 3 + k as u8,
+                    None => COLUMN_GENERAL,
+                };
                 for k in 0..b.nv {
                     ws.dofs.push(b.idx_v + k);
                     ws.dof_body.push(i);
                     ws.dof_axis.push(self.axes[b.idx_v + k]);
+                    ws.dof_kind
+                        .push(if b.nv == 1 { kind } else { COLUMN_GENERAL });
+                    ws.dof_q.push(b.idx_q + k);
                 }
             }
         }

@@ -5,11 +5,15 @@ use super::cholesky::{self, dot};
 use super::params::IkParams;
 use crate::configuration::{difference_joint, integrate_joint};
 use crate::data::KinematicsData;
+use crate::joint::sin_cos;
+use crate::joint::transform::rotate_about_axis;
 use kinetree_model::Model;
 use kinetree_model::spatial::explog::so3_left_jacobian_inverse;
 use kinetree_model::spatial::rotation::log3;
+use kinetree_model::spatial::{Motion, RotationForm, Se3};
 
 use super::scratch::{DofBound, Eval, Workspace};
+use glam::DVec3;
 
 /// Bounds of `μ`: below, steps are pure Gauss–Newton; above, the try is stuck.
 pub(super) const MU_MIN: f64 = 1e-12;
@@ -20,15 +24,32 @@ impl Workspace {
     pub(super) fn evaluate(&mut self, model: &Model, data: &mut KinematicsData) -> Eval {
         let bodies = model.bodies();
         let q = &self.q_trial;
-        for &i in &self.path {
-            let b = &bodies[i];
-            // Only the world placements are read (the solve ends with a full forward kinematics).
-            let local = data.joint_models[i].body_transform(b, q);
-            data.world_from_body[i] = if b.parent == 0 {
-                local
+        // Only the world placements are read (the solve ends with a full forward kinematics).
+        for p in &self.path {
+            let b = &bodies[p.body];
+            if p.axis < 3 {
+                // A revolute joint about a coordinate axis: the parent's rotation turned by the
+                // placement's (in its cheap form), then by the joint's, two columns of three each.
+                let (s, c) = sin_cos(q[p.qi]);
+                let w = &data.world_from_body[p.parent];
+                let placed = match p.place {
+                    RotationForm::Identity => w.rotation,
+                    RotationForm::Axis { k, s, c } => rotate_about_axis(&w.rotation, k, s, c),
+                    RotationForm::General(r) => w.rotation * r,
+                };
+                let translation = w.rotation * b.placement.translation + w.translation;
+                data.world_from_body[p.body] = Se3::new(
+                    rotate_about_axis(&placed, usize::from(p.axis), s, c),
+                    translation,
+                );
             } else {
-                data.world_from_body[b.parent] * local
-            };
+                let local = data.joint_models[p.body].body_transform(b, q);
+                data.world_from_body[p.body] = if p.parent == 0 {
+                    local
+                } else {
+                    data.world_from_body[p.parent] * local
+                };
+            }
         }
         let (mut e, mut pos2, mut ori2) = (0.0f64, 0.0f64, 0.0f64);
         for t in &mut self.targets[..self.ntargets] {
@@ -72,7 +93,17 @@ impl Workspace {
         for c in 0..n {
             let body = self.dof_body[c];
             let b = &bodies[body];
-            let col = data.world_from_body[body].act_motion(&self.dof_axis[c]);
+            let x = &data.world_from_body[body];
+            // The column of a joint about or along a coordinate axis is a column of the body's
+            // rotation (the general product multiplies by 0 and 1 only).
+            let col = match self.dof_kind[c] {
+                k @ 0..3 => {
+                    let w = x.rotation.col(usize::from(k));
+                    Motion::new(x.translation.cross(w), w)
+                }
+                k @ 3..6 => Motion::new(x.rotation.col(usize::from(k - 3)), DVec3::ZERO),
+                _ => x.act_motion(&self.dof_axis[c]),
+            };
             for t in &self.targets[..self.ntargets] {
                 let rows = t.offset..t.offset + t.nrows;
                 if body <= t.body && t.body < b.subtree_end {
@@ -292,8 +323,22 @@ pub(super) fn step(
             *x *= s;
         }
     }
-    // q_trial = clamp(q ⊕ dq).
+    // q_trial = clamp(q ⊕ dq), and the step actually taken (projection included).
     ws.q_trial.copy_from_slice(&ws.q);
+    if ws.additive {
+        for ((&qi, &d), x) in ws.dof_q.iter().zip(&ws.dofs).zip(&mut ws.step[..n]) {
+            let b = &bounds[d];
+            let moved = ws.q[qi] + *x;
+            if b.is_bounded() {
+                let clamped = moved.clamp(b.lower, b.upper);
+                ws.q_trial[qi] = clamped;
+                *x = clamped - ws.q[qi];
+            } else {
+                ws.q_trial[qi] = moved;
+            }
+        }
+        return Some(predicted_decrease(jac, &ws.r[..m], &ws.step[..n]));
+    }
     for c in 0..n {
         ws.dv[ws.dofs[c]] = ws.step[c];
     }
@@ -319,12 +364,17 @@ pub(super) fn step(
             ws.step[c] = x - ws.q[b.q];
         }
     }
-    // Predicted decrease of ½|r|²: -(rᵀJd + ½|Jd|²).
-    let d = &ws.step[..n];
+    Some(predicted_decrease(jac, &ws.r[..m], &ws.step[..n]))
+}
+
+/// The decrease of `½|r|²` the linear model predicts for step `d`: `-(rᵀJd + ½|Jd|²)`.
+#[inline]
+fn predicted_decrease(jac: &[f64], r: &[f64], d: &[f64]) -> f64 {
+    let n = d.len();
     let mut predicted = 0.0;
-    for k in 0..m {
+    for (k, rk) in r.iter().enumerate() {
         let jd = dot(&jac[k * n..(k + 1) * n], d);
-        predicted -= ws.r[k] * jd + 0.5 * jd * jd;
+        predicted -= rk * jd + 0.5 * jd * jd;
     }
-    Some(predicted)
+    predicted
 }

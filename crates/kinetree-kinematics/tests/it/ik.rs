@@ -26,7 +26,7 @@ use serde_json::Value;
 use std::sync::{Arc, Mutex};
 
 /// Deterministic parameters: no time budget (the budget is for the release report).
-fn params() -> IkParams {
+pub(crate) fn params() -> IkParams {
     IkParams {
         time_budget: None,
         ..IkParams::default()
@@ -63,7 +63,7 @@ fn pose_of(target: &Value) -> Se3 {
 
 /// Position and orientation errors of `frame` at `q` against `goal`, by a fresh forward
 /// kinematics (not the solver's own numbers).
-fn errors(model: &Model, frame: FrameId, q: &[f64], goal: &Se3) -> (f64, f64) {
+pub(crate) fn errors(model: &Model, frame: FrameId, q: &[f64], goal: &Se3) -> (f64, f64) {
     let mut data = KinematicsData::new(model);
     forward_kinematics(model, &mut data, q).unwrap();
     update_frame_placements(model, &mut data).unwrap();
@@ -74,7 +74,7 @@ fn errors(model: &Model, frame: FrameId, q: &[f64], goal: &Se3) -> (f64, f64) {
     )
 }
 
-fn pose_at(model: &Model, frame: FrameId, q: &[f64]) -> Se3 {
+pub(crate) fn pose_at(model: &Model, frame: FrameId, q: &[f64]) -> Se3 {
     let mut data = KinematicsData::new(model);
     forward_kinematics(model, &mut data, q).unwrap();
     update_frame_placements(model, &mut data).unwrap();

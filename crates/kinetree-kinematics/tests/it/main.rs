@@ -9,6 +9,7 @@ mod dh;
 mod finite_differences;
 mod frame_id;
 mod ik;
+mod ik_axes;
 mod mimic;
 mod reference;
 mod yapcad;
