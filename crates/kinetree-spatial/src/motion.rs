@@ -8,6 +8,8 @@ use glam::DVec3;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[doc(alias = "Twist")]
+// `repr(C)`: six `f64` in field order, which the batched kernels store whole.
+#[repr(C)]
 pub struct Motion {
     /// Linear part: velocity of the point at the frame origin.
     pub linear: DVec3,

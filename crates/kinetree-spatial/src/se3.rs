@@ -25,6 +25,9 @@ use glam::{DMat3, DMat4, DQuat, DVec3, DVec4};
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[doc(alias = "SE3")]
 #[doc(alias = "Isometry3")]
+// `repr(C)`: the rotation's nine `f64` (column by column) and the translation's three, which
+// the batched kernels store whole.
+#[repr(C)]
 pub struct Se3 {
     /// Rotation matrix (orthonormal, determinant +1).
     pub rotation: DMat3,

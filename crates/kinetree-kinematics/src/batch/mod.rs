@@ -34,6 +34,7 @@
 
 mod simd;
 mod sweep;
+mod transpose;
 
 pub use simd::Simd;
 #[doc(hidden)]
@@ -45,6 +46,7 @@ use crate::jacobian::ReferenceFrame;
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
 use sweep::{LaneBuffers, Shape};
+use transpose::Io;
 
 /// The buffers of the batched kinematics for one [`Model`] (see the [module](self) docs).
 ///
@@ -225,6 +227,7 @@ pub fn forward_kinematics_batch(
         joint_models: &batch.data.joint_models,
         link_on_body_frame: &batch.data.link_on_body_frame,
         turn_axis: &batch.data.turn_axis,
+        io: Io::new(batch.simd),
     };
     let frames = world_from_frame;
     let bad = crate::simd_dispatch!(
@@ -296,10 +299,12 @@ pub fn frame_jacobian_batch(
         joint_models: &batch.data.joint_models,
         link_on_body_frame: &batch.data.link_on_body_frame,
         turn_axis: &batch.data.turn_axis,
+        io: Io::new(batch.simd),
     };
     let bad = crate::simd_dispatch!(
         batch.simd, LaneBuffers, &mut batch.lanes4, &mut batch.lanes8, jacobian_kernel,
-        (shape: &Shape<'_> = &shape, q: &[f64] = q, n: usize = n, target: (usize, Se3) = target,
+        (shape: &Shape<'_> = &shape, q: &[f64] = q, n: usize = n,
+         target: (usize, Se3) = target,
          reference: ReferenceFrame = reference, out: &mut [Motion] = out) -> Option<usize>
     );
     if let Some(k) = bad {

@@ -2,6 +2,7 @@
 //! `forward.rs` and `jacobian.rs`, over a block of `L` states at a time.
 
 use super::simd::{block_states, body_transform, joint_sin_cos, rotate_about_axis};
+use super::transpose::Io;
 use crate::jacobian::ReferenceFrame;
 use crate::joint::JointModel;
 use kinetree_model::Model;
@@ -57,6 +58,8 @@ pub(crate) struct LaneBuffers<const L: usize> {
     /// the same as a mask over the `nv` columns.
     path_columns: Vec<usize>,
     on_path: Vec<bool>,
+    /// The runs of columns off the path, `[start, end)`.
+    zero_runs: Vec<(usize, usize)>,
 }
 
 impl<const L: usize> LaneBuffers<L> {
@@ -67,6 +70,7 @@ impl<const L: usize> LaneBuffers<L> {
             columns: LaneVec::new(LMotion::ZERO, model.nv()),
             path_columns: Vec::with_capacity(model.nv()),
             on_path: vec![false; model.nv()],
+            zero_runs: Vec::with_capacity(model.nv() + 1),
         }
     }
 }
@@ -80,6 +84,8 @@ pub(crate) struct Shape<'a> {
     /// Per body, the coordinate axis a revolute joint whose placement does not rotate turns
     /// about (3 for other bodies), as `KinematicsData::turn_axis`.
     pub(crate) turn_axis: &'a [u8],
+    /// How results leave the lanes.
+    pub(crate) io: Io,
 }
 
 /// Every body's world placement for the block of states `idx` (the sweep of `placements`).
@@ -177,7 +183,7 @@ pub(crate) fn forward_kinematics<const L: usize>(
     let model = shape.model;
     let (nl, nf) = (model.links().len(), model.frames().len());
     // The links' lane placements are kept only for the frames, which are placed from them.
-    let keep_links = frames.is_some();
+    let keep_links = frames.is_some() && nf > 0;
     let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
@@ -195,9 +201,9 @@ pub(crate) fn forward_kinematics<const L: usize>(
             if keep_links {
                 bufs.world_from_link[l] = x;
             }
-            for k in 0..count {
-                links[(start + k) * nl + l] = x.lane(k);
-            }
+            shape
+                .io
+                .store_placements(&x, links, start * nl + l, nl, count);
         }
         if bad.is_none() {
             bad = first_flagged(probe, start, count);
@@ -205,9 +211,9 @@ pub(crate) fn forward_kinematics<const L: usize>(
         if let Some(frames) = frames.as_deref_mut() {
             for (f, frame) in model.frames().iter().enumerate() {
                 let x = bufs.world_from_link[frame.link].mul_const(&frame.placement);
-                for k in 0..count {
-                    frames[(start + k) * nf + f] = x.lane(k);
-                }
+                shape
+                    .io
+                    .store_placements(&x, frames, start * nf + f, nf, count);
             }
         }
     }
@@ -294,6 +300,17 @@ pub(crate) fn frame_jacobian<const L: usize>(
         i = b.parent;
     }
     bufs.path_columns.sort_unstable();
+    bufs.zero_runs.clear();
+    let mut next = 0;
+    for &c in &bufs.path_columns {
+        if next < c {
+            bufs.zero_runs.push((next, c));
+        }
+        next = c + 1;
+    }
+    if next < nv {
+        bufs.zero_runs.push((next, nv));
+    }
     let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
@@ -321,22 +338,19 @@ pub(crate) fn frame_jacobian<const L: usize>(
             }
             i = b.parent;
         }
+        // The runs of columns off the path are zero-filled whole, state by state; the path's
+        // columns are moved out of the lanes column by column (a test of every column and six
+        // single stores each made this copy half of the batch's time on talos_full_v2).
+        for k in 0..count {
+            let row = &mut out[(start + k) * nv..(start + k + 1) * nv];
+            for &(a, b) in &bufs.zero_runs {
+                shape.io.zero_motions(&mut row[a..b]);
+            }
+        }
         for &c in &bufs.path_columns {
             let col = &bufs.columns[c];
             probe += non_finite(&col.linear) + non_finite(&col.angular);
-        }
-        // Row by row: the runs of columns off the path are zero-filled whole, the path's
-        // columns read from the lanes (a test of every column and six single stores each made
-        // this copy half of the batch's time on talos_full_v2).
-        for k in 0..count {
-            let row = &mut out[(start + k) * nv..(start + k + 1) * nv];
-            let mut next = 0;
-            for &c in &bufs.path_columns {
-                row[next..c].fill(Motion::ZERO);
-                row[c] = bufs.columns[c].lane(k);
-                next = c + 1;
-            }
-            row[next..].fill(Motion::ZERO);
+            shape.io.store_motions(col, out, start * nv + c, nv, count);
         }
         if bad.is_none() {
             bad = first_flagged(probe, start, count);
