@@ -3,7 +3,7 @@
 //! one-state result bit for bit.
 
 use super::composite::{LOrigin, LRotation};
-use crate::data::DynamicsData;
+use crate::data::{AncestorStep, DynamicsData};
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::batch::{block_states, body_transform, revolute_axis_transform};
 use kinetree_kinematics::model::Model;
@@ -17,19 +17,75 @@ pub(crate) struct CrbaLanes<const L: usize> {
     /// The joint's rotation about its coordinate axis (revolute joints about x, y or z).
     joint_rot: Vec<LRotation<L>>,
     composite: Vec<LOrigin<L>>,
-    /// The `nv x nv` mass matrices (row-major); entries of no ancestor pair stay zero.
-    mass: Vec<Lanes<L>>,
+    /// The entries the sweep computes (one per ancestor pair of degrees of freedom, the diagonal
+    /// included), in the order it computes them: see [`entry_layout`].
+    entries: Vec<Lanes<L>>,
+    /// Where each of `entries` goes in a row-major `nv x nv` matrix: its two mirrored places.
+    places: Vec<(usize, usize)>,
+    /// The index in `entries` of each diagonal entry (for the armature).
+    diagonal: Vec<usize>,
 }
 
 impl<const L: usize> CrbaLanes<L> {
     pub(crate) fn new(model: &Model) -> Self {
-        let (nb, nv) = (model.nbodies(), model.nv());
+        let nb = model.nbodies();
+        let (places, diagonal) = entry_layout(model);
         Self {
             parent_from_body: vec![LSe3::default(); nb],
             joint_rot: vec![LRotation::Identity; nb],
             composite: vec![LOrigin::default(); nb],
-            mass: vec![Lanes::ZERO; nv * nv],
+            entries: vec![Lanes::ZERO; places.len()],
+            places,
+            diagonal,
         }
+    }
+}
+
+/// The mass-matrix entries of CRBA's sweep in the order [`crba`] computes them, as the places
+/// `(r·nv + c, c·nv + r)` of entry `(r, c)`, and the index of each diagonal entry among them.
+///
+/// Bodies from last to first; each body's diagonal block (`(iᵥ+l, iᵥ+k)` for `l ≥ k`), then
+/// each ancestor `j` from the parent up (`(jᵥ+l, iᵥ+k)`, `k` outer). Every other entry is zero:
+/// a lane buffer of only these keeps the working set of a branched tree small.
+fn entry_layout(model: &Model) -> (Vec<(usize, usize)>, Vec<usize>) {
+    let (bodies, nv) = (model.bodies(), model.nv());
+    let mut places = Vec::new();
+    let mut diagonal = vec![0; nv];
+    let mut put = |r: usize, c: usize, places: &mut Vec<(usize, usize)>| {
+        if r == c {
+            diagonal[r] = places.len();
+        }
+        places.push((r * nv + c, c * nv + r));
+    };
+    for i in (1..bodies.len()).rev() {
+        let (iv, ni) = (bodies[i].idx_v, bodies[i].nv);
+        for k in 0..ni {
+            for l in k..ni {
+                put(iv + l, iv + k, &mut places);
+            }
+        }
+        let mut j = bodies[i].parent;
+        while j != 0 {
+            let (jv, nj) = (bodies[j].idx_v, bodies[j].nv);
+            for k in 0..ni {
+                for l in 0..nj {
+                    put(jv + l, iv + k, &mut places);
+                }
+            }
+            j = bodies[j].parent;
+        }
+    }
+    (places, diagonal)
+}
+
+/// Component `c` of a force in `[linear; angular]` order (`c < 6`), as
+/// [`JointModel::project_axis`] reads it.
+#[inline(always)]
+fn component<const L: usize>(f: &LForce<L>, c: u8) -> Lanes<L> {
+    if c < 3 {
+        f.linear.get(usize::from(c))
+    } else {
+        f.angular.get(usize::from(c - 3))
     }
 }
 
@@ -121,25 +177,21 @@ fn axis_momentum<const L: usize>(axis: (usize, bool), y: &LOrigin<L>) -> LForce<
     }
 }
 
-/// Writes the block's lane matrices `m` (`nn` entries of `L` lanes) into the first
-/// `out.len() / nn` states of `out` (each `nn` numbers).
-///
-/// Entry by entry, each lane to its state: one whole-lane load per entry (a lane-by-lane copy
-/// reads one number per `L`-wide load, which the compiler turns into gathers).
+/// Writes the block's entries (`L` lanes each, at `places`) into the first `out.len() / nn`
+/// states of `out` (each an `nn`-number matrix), zero everywhere else.
 #[inline(always)]
-fn store_block<const L: usize>(m: &[Lanes<L>], out: &mut [f64], nn: usize) {
-    let count = out.len() / nn;
-    if count == L {
-        for (e, x) in m.iter().enumerate() {
-            for l in 0..L {
-                out[l * nn + e] = x.0[l];
-            }
-        }
-    } else {
-        for l in 0..count {
-            for (o, x) in out[l * nn..(l + 1) * nn].iter_mut().zip(m) {
-                *o = x.0[l];
-            }
+fn store_block<const L: usize>(
+    entries: &[Lanes<L>],
+    places: &[(usize, usize)],
+    out: &mut [f64],
+    nn: usize,
+) {
+    for (l, o) in out.chunks_exact_mut(nn).enumerate() {
+        o.fill(0.0);
+        for (x, &(a, b)) in entries.iter().zip(places) {
+            let v = x.0[l];
+            o[a] = v;
+            o[b] = v;
         }
     }
 }
@@ -164,6 +216,7 @@ pub(crate) fn crba<const L: usize>(
     let nn = nv * nv;
     let bodies = model.bodies();
     let joint_models = data.kinematics.joint_models();
+    let steps = &data.ancestor_step[..];
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
@@ -179,13 +232,15 @@ pub(crate) fn crba<const L: usize>(
             };
             bufs.composite[i] = LOrigin::splat(&data.body_inertia[i]);
         }
-        let m = &mut bufs.mass;
+        let m = &mut bufs.entries;
+        // The next entry of `m` (see `entry_layout`).
+        let mut w = 0;
         let mut f = [LForce::ZERO; 6];
         let mut col = [Lanes::ZERO; 6];
         let mut probe = Lanes::ZERO;
         for i in (1..bodies.len()).rev() {
             let b = &bodies[i];
-            let (iv, ni) = (b.idx_v, b.nv);
+            let ni = b.nv;
             let ic = bufs.composite[i];
             let jm = &joint_models[i];
             let axis = jm.axis_index();
@@ -199,8 +254,8 @@ pub(crate) fn crba<const L: usize>(
                         project_force(jm, &f[k], &mut col);
                         for l in k..ni {
                             probe += col[l];
-                            m[(iv + l) * nv + iv + k] = col[l];
-                            m[(iv + k) * nv + iv + l] = col[l];
+                            m[w] = col[l];
+                            w += 1;
                         }
                     }
                     f[0]
@@ -211,32 +266,29 @@ pub(crate) fn crba<const L: usize>(
                 if let Some(axis) = axis {
                     let d = project_axis(axis, &fk);
                     probe += d;
-                    m[iv * nv + iv] = d;
+                    m[w] = d;
+                    w += 1;
                 }
                 let mut j = i;
                 loop {
-                    let p = bodies[j].parent;
-                    if p == 0 {
+                    let step = steps[j];
+                    if step.parent == 0 {
                         break;
                     }
                     fk = bufs.parent_from_body[j].act_force(&fk);
-                    j = p;
-                    let jv = bodies[j].idx_v;
-                    match joint_models[j].axis_index() {
-                        Some(axis) => {
-                            let x = project_axis(axis, &fk);
-                            probe += x;
-                            m[jv * nv + iv] = x;
-                            m[iv * nv + jv] = x;
-                        }
-                        None => {
-                            let nj = bodies[j].nv;
-                            project_force(&joint_models[j], &fk, &mut col);
-                            for l in 0..nj {
-                                probe += col[l];
-                                m[(jv + l) * nv + iv] = col[l];
-                                m[iv * nv + jv + l] = col[l];
-                            }
+                    j = step.parent;
+                    if step.kind < AncestorStep::FLOATING {
+                        let x = component(&fk, step.kind);
+                        probe += x;
+                        m[w] = x;
+                        w += 1;
+                    } else {
+                        let nj = bodies[j].nv;
+                        project_force(&joint_models[j], &fk, &mut col);
+                        for l in 0..nj {
+                            probe += col[l];
+                            m[w] = col[l];
+                            w += 1;
                         }
                     }
                 }
@@ -251,13 +303,13 @@ pub(crate) fn crba<const L: usize>(
                         *fk = bufs.parent_from_body[j].act_force(fk);
                     }
                     j = p;
-                    let (jv, nj) = (bodies[j].idx_v, bodies[j].nv);
+                    let nj = bodies[j].nv;
                     for k in 0..ni {
                         project_force(&joint_models[j], &f[k], &mut col);
                         for l in 0..nj {
                             probe += col[l];
-                            m[(jv + l) * nv + iv + k] = col[l];
-                            m[(iv + k) * nv + jv + l] = col[l];
+                            m[w] = col[l];
+                            w += 1;
                         }
                     }
                 }
@@ -278,11 +330,17 @@ pub(crate) fn crba<const L: usize>(
         }
         if data.has_joint_terms {
             for k in 0..nv {
-                m[k * nv + k] += Lanes::splat(data.armature[k]);
-                probe += m[k * nv + k];
+                let d = &mut m[bufs.diagonal[k]];
+                *d += Lanes::splat(data.armature[k]);
+                probe += *d;
             }
         }
-        store_block(m, &mut mass_matrix[start * nn..(start + count) * nn], nn);
+        store_block(
+            m,
+            &bufs.places,
+            &mut mass_matrix[start * nn..(start + count) * nn],
+            nn,
+        );
         finite &= probe.0[..count].iter().all(|p| p.is_finite());
     }
     finite
