@@ -41,7 +41,7 @@ pub use simd::Simd;
 pub use simd::{block_states, body_transform, gather, revolute_axis_transform};
 
 use crate::data::{FrameId, KinematicsData};
-use crate::error::{KinematicsError, check_q, first_non_finite};
+use crate::error::KinematicsError;
 use crate::jacobian::ReferenceFrame;
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
@@ -93,31 +93,6 @@ impl KinematicsBatch {
     pub fn simd(&self) -> Simd {
         self.simd
     }
-}
-
-/// Checks every configuration of a batch (finite, unit quaternions) as [`check_q`] does: one
-/// pass over all the numbers, and a sum of squares per quaternion that is well inside
-/// [`QUATERNION_NORM_TOLERANCE`](crate::QUATERNION_NORM_TOLERANCE) (|norm² − 1| ≤ 1.9e-6, a norm
-/// within 0.95e-6 of 1). A state that fails either goes through [`check_q`], which decides and
-/// names the problem, so the batch accepts and refuses exactly the states the one-state
-/// functions do.
-fn check_states(model: &Model, q: &[f64], n: usize) -> Result<(), KinematicsError> {
-    let nq = model.nq();
-    let all_finite = first_non_finite(&q[..n * nq]).is_none();
-    let blocks = model.quaternion_blocks();
-    for k in 0..n {
-        let qk = &q[k * nq..(k + 1) * nq];
-        let clearly_fine = all_finite
-            && blocks.iter().all(|&(_, start)| {
-                let x = &qk[start..start + 4];
-                let squares = x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[3] * x[3];
-                (squares - 1.0).abs() <= 1.9e-6
-            });
-        if !clearly_fine {
-            check_q(model, "q", qk).map_err(in_state(k))?;
-        }
-    }
-    Ok(())
 }
 
 /// The number of states in a batch of `len` numbers of `per_state` each.
@@ -221,7 +196,6 @@ pub fn forward_kinematics_batch(
     if let Some(frames) = &world_from_frame {
         check_buffer("world_from_frame", frames.len(), n, nf)?;
     }
-    check_states(model, q, n)?;
     let shape = Shape {
         model,
         joint_models: &batch.data.joint_models,
@@ -292,7 +266,6 @@ pub fn frame_jacobian_batch(
     frame.check(model)?;
     let nv = model.nv();
     let n = states(model, q, "jacobian", out.len(), nv)?;
-    check_states(model, q, n)?;
     let target = frame.body(model)?;
     let shape = Shape {
         model,

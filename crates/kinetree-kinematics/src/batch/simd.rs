@@ -207,11 +207,63 @@ pub fn gather<const L: usize>(x: &[f64], stride: usize, at: usize, idx: &[usize;
     Lanes(out)
 }
 
+/// The joint coordinates of a block of states, as the lane kernels read them.
+pub(crate) trait Coordinates<const L: usize> {
+    /// Coordinate `at` of every lane.
+    fn at(&self, at: usize) -> Lanes<L>;
+    /// Lane `l`'s whole configuration.
+    fn state(&self, l: usize) -> &[f64];
+}
+
+/// The coordinates of the block of states `idx` read where they lie in the stacked states `q`
+/// (`nq` numbers each), one [`gather`] per coordinate.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Gathered<'a, const L: usize> {
+    /// The stacked states.
+    pub(crate) q: &'a [f64],
+    /// Numbers per state.
+    pub(crate) nq: usize,
+    /// The block's states.
+    pub(crate) idx: [usize; L],
+}
+
+impl<const L: usize> Coordinates<L> for Gathered<'_, L> {
+    #[inline(always)]
+    fn at(&self, at: usize) -> Lanes<L> {
+        gather(self.q, self.nq, at, &self.idx)
+    }
+
+    #[inline(always)]
+    fn state(&self, l: usize) -> &[f64] {
+        &self.q[self.idx[l] * self.nq..(self.idx[l] + 1) * self.nq]
+    }
+}
+
+/// The coordinates of a block of states moved into lanes once (`lanes[j]` is coordinate `j` of
+/// every lane), with the stacked states for the joints computed lane by lane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct InLanes<'a, const L: usize> {
+    pub(crate) lanes: &'a [Lanes<L>],
+    pub(crate) states: Gathered<'a, L>,
+}
+
+impl<const L: usize> Coordinates<L> for InLanes<'_, L> {
+    #[inline(always)]
+    fn at(&self, at: usize) -> Lanes<L> {
+        self.lanes[at]
+    }
+
+    #[inline(always)]
+    fn state(&self, l: usize) -> &[f64] {
+        self.states.state(l)
+    }
+}
+
 /// The joint value of a one-coordinate body (a coupled mimic body: `multiplier·q + offset`, as
 /// [`JointModel::body_transform`]).
 #[inline(always)]
-fn joint_value<const L: usize>(b: &Body, q: &[f64], nq: usize, idx: &[usize; L]) -> Lanes<L> {
-    let x = gather(q, nq, b.idx_q, idx);
+fn joint_value<const L: usize>(b: &Body, c: &impl Coordinates<L>) -> Lanes<L> {
+    let x = c.at(b.idx_q);
     match &b.mimic {
         None => x,
         Some(m) => x * m.multiplier + Lanes::splat(m.offset),
@@ -229,10 +281,20 @@ pub fn body_transform<const L: usize>(
     nq: usize,
     idx: &[usize; L],
 ) -> LSe3<L> {
+    body_transform_of(jm, b, &Gathered { q, nq, idx: *idx })
+}
+
+/// [`body_transform`] with the coordinates read from `c`.
+#[inline(always)]
+pub(crate) fn body_transform_of<const L: usize>(
+    jm: &JointModel,
+    b: &Body,
+    c: &impl Coordinates<L>,
+) -> LSe3<L> {
     let p = &b.placement;
     let r = &p.rotation;
     let t = LVec3::splat(p.translation);
-    let rotate = |k: usize| revolute_axis_transform(k, b, q, nq, idx).0;
+    let rotate = |k: usize| revolute_axis_transform_of(k, b, c).0;
     let slide = |axis: LVec3<L>| LSe3 {
         rotation: LMat3::splat(r),
         translation: t + axis,
@@ -241,11 +303,11 @@ pub fn body_transform<const L: usize>(
         JointModel::RevoluteX => rotate(0),
         JointModel::RevoluteY => rotate(1),
         JointModel::RevoluteZ => rotate(2),
-        JointModel::PrismaticX => slide(LVec3::splat(r.x_axis).scale(joint_value(b, q, nq, idx))),
-        JointModel::PrismaticY => slide(LVec3::splat(r.y_axis).scale(joint_value(b, q, nq, idx))),
-        JointModel::PrismaticZ => slide(LVec3::splat(r.z_axis).scale(joint_value(b, q, nq, idx))),
+        JointModel::PrismaticX => slide(LVec3::splat(r.x_axis).scale(joint_value(b, c))),
+        JointModel::PrismaticY => slide(LVec3::splat(r.y_axis).scale(joint_value(b, c))),
+        JointModel::PrismaticZ => slide(LVec3::splat(r.z_axis).scale(joint_value(b, c))),
         JointModel::Prismatic(a) => {
-            let d = joint_value(b, q, nq, idx);
+            let d = joint_value(b, c);
             let v = LVec3 {
                 x: d * a.x,
                 y: d * a.y,
@@ -254,12 +316,11 @@ pub fn body_transform<const L: usize>(
             slide(LMat3::splat(r).mul_vec(&v))
         }
         JointModel::Fixed => LSe3::splat(p),
-        JointModel::Floating => floating_transform(b, q, nq, idx),
+        JointModel::Floating => floating_transform(b, c),
         _ => {
             let mut x = LSe3::default();
             for l in 0..L {
-                let state = &q[idx[l] * nq..(idx[l] + 1) * nq];
-                x.set_lane(l, &jm.body_transform(b, state));
+                x.set_lane(l, &jm.body_transform(b, c.state(l)));
             }
             x
         }
@@ -270,8 +331,8 @@ pub fn body_transform<const L: usize>(
 /// computes it: the quaternion divided by its length (`quat` of `joint/model.rs`), turned into a
 /// matrix as `DMat3::from_quat` does, and the placement applied unless it is the identity.
 #[inline(always)]
-fn floating_transform<const L: usize>(b: &Body, q: &[f64], nq: usize, idx: &[usize; L]) -> LSe3<L> {
-    let at = |k: usize| gather(q, nq, b.idx_q + k, idx);
+fn floating_transform<const L: usize>(b: &Body, c: &impl Coordinates<L>) -> LSe3<L> {
+    let at = |k: usize| c.at(b.idx_q + k);
     let translation = LVec3 {
         x: at(0),
         y: at(1),
@@ -353,11 +414,9 @@ pub(crate) fn rotate_about_axis<const L: usize>(
 #[inline(always)]
 pub(crate) fn joint_sin_cos<const L: usize>(
     b: &Body,
-    q: &[f64],
-    nq: usize,
-    idx: &[usize; L],
+    c: &impl Coordinates<L>,
 ) -> (Lanes<L>, Lanes<L>) {
-    sin_cos_lanes(joint_value(b, q, nq, idx))
+    sin_cos_lanes(joint_value(b, c))
 }
 
 /// `parent_from_body` of `b`, whose joint turns about coordinate axis `k` (0, 1, 2 for x, y,
@@ -371,8 +430,18 @@ pub fn revolute_axis_transform<const L: usize>(
     nq: usize,
     idx: &[usize; L],
 ) -> (LSe3<L>, Lanes<L>, Lanes<L>) {
+    revolute_axis_transform_of(k, b, &Gathered { q, nq, idx: *idx })
+}
+
+/// [`revolute_axis_transform`] with the coordinates read from `c`.
+#[inline(always)]
+pub(crate) fn revolute_axis_transform_of<const L: usize>(
+    k: usize,
+    b: &Body,
+    c: &impl Coordinates<L>,
+) -> (LSe3<L>, Lanes<L>, Lanes<L>) {
     let p = &b.placement;
-    let (s, c) = sin_cos_lanes(joint_value(b, q, nq, idx));
+    let (s, c) = sin_cos_lanes(joint_value(b, c));
     let rotation = rotate_about_axis(&LMat3::splat(&p.rotation), k, s, c);
     let x = LSe3 {
         rotation,

@@ -1,8 +1,12 @@
 //! The lane kernels of batched forward kinematics and frame Jacobians: the one-state sweeps of
 //! `forward.rs` and `jacobian.rs`, over a block of `L` states at a time.
 
-use super::simd::{block_states, body_transform, joint_sin_cos, rotate_about_axis};
+use super::simd::{
+    Coordinates, Gathered, InLanes, block_states, body_transform_of, joint_sin_cos,
+    rotate_about_axis,
+};
 use super::transpose::Io;
+use crate::error::check_q;
 use crate::jacobian::ReferenceFrame;
 use crate::joint::JointModel;
 use kinetree_model::Model;
@@ -51,6 +55,8 @@ impl<T> IndexMut<usize> for LaneVec<T> {
 /// The per-body and per-link lane buffers of one lane width.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct LaneBuffers<const L: usize> {
+    /// The block's coordinates, `nq` rounded up to 8 (`Io::load_coordinates`).
+    coordinates: Vec<Lanes<L>>,
     world_from_body: LaneVec<LSe3<L>>,
     world_from_link: LaneVec<LSe3<L>>,
     columns: LaneVec<LMotion<L>>,
@@ -65,6 +71,7 @@ pub(crate) struct LaneBuffers<const L: usize> {
 impl<const L: usize> LaneBuffers<L> {
     pub(crate) fn new(model: &Model) -> Self {
         Self {
+            coordinates: vec![Lanes::ZERO; model.nq().next_multiple_of(8)],
             world_from_body: LaneVec::new(LSe3::splat(&Se3::IDENTITY), model.nbodies()),
             world_from_link: LaneVec::new(LSe3::splat(&Se3::IDENTITY), model.links().len()),
             columns: LaneVec::new(LMotion::ZERO, model.nv()),
@@ -90,14 +97,9 @@ pub(crate) struct Shape<'a> {
 
 /// Every body's world placement for the block of states `idx` (the sweep of `placements`).
 #[inline(always)]
-fn body_sweep<const L: usize>(
-    shape: &Shape<'_>,
-    world: &mut LaneVec<LSe3<L>>,
-    q: &[f64],
-    idx: &[usize; L],
-) {
+fn body_sweep<const L: usize>(shape: &Shape<'_>, world: &mut LaneVec<LSe3<L>>, c: &InLanes<'_, L>) {
     for i in 1..shape.model.bodies().len() {
-        place(shape, world, q, idx, i);
+        place(shape, world, c, i);
     }
 }
 
@@ -107,14 +109,13 @@ fn body_sweep<const L: usize>(
 fn body_sweep_to<const L: usize>(
     shape: &Shape<'_>,
     world: &mut LaneVec<LSe3<L>>,
-    q: &[f64],
-    idx: &[usize; L],
+    c: &InLanes<'_, L>,
     target: usize,
 ) {
     let bodies = shape.model.bodies();
     for i in 1..=target.min(bodies.len() - 1) {
         if bodies[i].subtree_end > target {
-            place(shape, world, q, idx, i);
+            place(shape, world, c, i);
         }
     }
 }
@@ -125,26 +126,23 @@ fn body_sweep_to<const L: usize>(
 fn place<const L: usize>(
     shape: &Shape<'_>,
     world: &mut LaneVec<LSe3<L>>,
-    q: &[f64],
-    idx: &[usize; L],
+    c: &InLanes<'_, L>,
     i: usize,
 ) {
-    let model = shape.model;
-    let nq = model.nq();
-    let b = &model.bodies()[i];
+    let b = &shape.model.bodies()[i];
     // As `forward::placements`: the parent's world rotation turned about the joint's axis,
     // two columns of three, where the placement does not rotate.
     let k = usize::from(shape.turn_axis[i]);
     if k < 3 {
-        let (s, c) = joint_sin_cos(b, q, nq, idx);
+        let (s, co) = joint_sin_cos(b, c);
         let w = &world[b.parent];
         world[i] = LSe3 {
-            rotation: rotate_about_axis(&w.rotation, k, s, c),
+            rotation: rotate_about_axis(&w.rotation, k, s, co),
             translation: w.rotation.mul_const_vec(b.placement.translation) + w.translation,
         };
         return;
     }
-    let local = body_transform(&shape.joint_models[i], b, q, nq, idx);
+    let local = body_transform_of(&shape.joint_models[i], b, c);
     world[i] = if b.parent == 0 {
         local
     } else {
@@ -168,8 +166,46 @@ fn first_flagged<const L: usize>(probe: Lanes<L>, start: usize, count: usize) ->
     (0..count).find(|&k| probe.0[k] != 0.0).map(|k| start + k)
 }
 
+/// The first of the block's `count` states (from state `start`) whose configuration the
+/// one-state functions refuse: a lane whose finiteness probe (of
+/// [`Io::load_coordinates`](super::transpose::Io::load_coordinates)) is not 0, or whose
+/// quaternions' sums of squares are not well inside the tolerance (|norm² − 1| ≤ 1.9e-6, a norm
+/// within 0.95e-6 of 1), goes through [`check_q`], which decides; so a batch accepts and refuses
+/// exactly the states the one-state functions do.
+#[inline(always)]
+fn first_refused<const L: usize>(
+    shape: &Shape<'_>,
+    c: &InLanes<'_, L>,
+    finite: Lanes<L>,
+    start: usize,
+    count: usize,
+) -> Option<usize> {
+    let mut suspect = finite;
+    for &(_, at) in shape.model.quaternion_blocks() {
+        let (x, y, z, w) = (c.at(at), c.at(at + 1), c.at(at + 2), c.at(at + 3));
+        let squares = x * x + y * y + z * z + w * w;
+        for l in 0..L {
+            let fine = (squares.0[l] - 1.0).abs() <= 1.9e-6;
+            suspect.0[l] += if fine { 0.0 } else { f64::NAN };
+        }
+    }
+    (0..count)
+        .find(|&k| suspect.0[k] != 0.0 && check_q(shape.model, "q", c.state(k)).is_err())
+        .map(|k| start + k)
+}
+
+/// The earlier of two bad states.
+#[inline(always)]
+fn earliest(a: Option<usize>, b: Option<usize>) -> Option<usize> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
 /// Forward kinematics of the `n` states of `q`: every link's placement into `links`, and every
-/// frame's into `frames` when given (inputs checked by the caller). Returns the first state with
+/// frame's into `frames` when given (buffer lengths checked by the caller). Returns the first state
+/// whose configuration the one-state function refuses or with
 /// a link whose translation is not finite (the one-state function's overflow check).
 #[inline(always)]
 pub(crate) fn forward_kinematics<const L: usize>(
@@ -181,14 +217,22 @@ pub(crate) fn forward_kinematics<const L: usize>(
     mut frames: Option<&mut [Se3]>,
 ) -> Option<usize> {
     let model = shape.model;
-    let (nl, nf) = (model.links().len(), model.frames().len());
+    let (nq, nl, nf) = (model.nq(), model.links().len(), model.frames().len());
     // The links' lane placements are kept only for the frames, which are placed from them.
     let keep_links = frames.is_some() && nf > 0;
     let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
-        body_sweep(shape, &mut bufs.world_from_body, q, &idx);
+        let finite = shape
+            .io
+            .load_coordinates(q, nq, &idx, &mut bufs.coordinates);
+        let c = InLanes {
+            lanes: &bufs.coordinates,
+            states: Gathered { q, nq, idx },
+        };
+        let refused = first_refused(shape, &c, finite, start, count);
+        body_sweep(shape, &mut bufs.world_from_body, &c);
         let mut probe = Lanes::ZERO;
         for l in 0..nl {
             let (b, body_from_link) = model.link_body(l);
@@ -206,7 +250,7 @@ pub(crate) fn forward_kinematics<const L: usize>(
                 .store_placements(&x, links, start * nl + l, nl, count);
         }
         if bad.is_none() {
-            bad = first_flagged(probe, start, count);
+            bad = earliest(refused, first_flagged(probe, start, count));
         }
         if let Some(frames) = frames.as_deref_mut() {
             for (f, frame) in model.frames().iter().enumerate() {
@@ -267,7 +311,8 @@ fn column<const L: usize>(x: &LSe3<L>, jm: &JointModel, k: usize) -> LMotion<L> 
 
 /// The Jacobian of `frame` in `reference` for the `n` states of `q`, into `out` (`n · nv`
 /// columns; inputs checked by the caller), as `compute_frame_jacobian`, which places only the
-/// frame's body and its ancestors. Returns the first state with a placement on that path or a
+/// frame's body and its ancestors. Returns the first state whose configuration the one-state
+/// function refuses or with a placement on that path or a
 /// column that is not finite.
 #[inline(always)]
 pub(crate) fn frame_jacobian<const L: usize>(
@@ -280,7 +325,7 @@ pub(crate) fn frame_jacobian<const L: usize>(
     out: &mut [Motion],
 ) -> Option<usize> {
     let model = shape.model;
-    let nv = model.nv();
+    let (nq, nv) = (model.nq(), model.nv());
     let bodies = model.bodies();
     let (body, body_from_frame) = body_and_placement;
     // The columns the path writes (a coupled mimic follower writes its leader's); every other
@@ -315,7 +360,15 @@ pub(crate) fn frame_jacobian<const L: usize>(
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
-        body_sweep_to(shape, &mut bufs.world_from_body, q, &idx, body);
+        let finite = shape
+            .io
+            .load_coordinates(q, nq, &idx, &mut bufs.coordinates);
+        let c = InLanes {
+            lanes: &bufs.coordinates,
+            states: Gathered { q, nq, idx },
+        };
+        let refused = first_refused(shape, &c, finite, start, count);
+        body_sweep_to(shape, &mut bufs.world_from_body, &c, body);
         let world_from_frame = bufs.world_from_body[body].mul_const(&body_from_frame);
         for &c in &bufs.path_columns {
             bufs.columns[c] = LMotion::ZERO;
@@ -353,7 +406,7 @@ pub(crate) fn frame_jacobian<const L: usize>(
             shape.io.store_motions(col, out, start * nv + c, nv, count);
         }
         if bad.is_none() {
-            bad = first_flagged(probe, start, count);
+            bad = earliest(refused, first_flagged(probe, start, count));
         }
     }
     bad

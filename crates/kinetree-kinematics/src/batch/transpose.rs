@@ -1,5 +1,6 @@
-//! Moving a block's results out of the lanes: `R` rows of `L` lanes become `L` records of `R`
-//! numbers (a [`Motion`] is 6, an [`Se3`] 12), each stored in its own state's place.
+//! Moving a block's coordinates into the lanes, and its results out of them: `R` rows of `L`
+//! lanes become `L` records of `R` numbers (a [`Motion`] is 6, an [`Se3`] 12), each stored in its
+//! own state's place, and the reverse for the states' coordinates.
 //!
 //! The plain form reads and writes one number at a time (12 loads and 12 stores per placement and
 //! state). With AVX-512F the rows are loaded whole, transposed in registers (8×8 blocks of
@@ -60,6 +61,42 @@ impl Io {
         }
     }
 
+    /// Moves the `nq` coordinates of the block of states `idx` (rows of `q`) into lanes:
+    /// `out[j]` becomes coordinate `j` of every lane (`out` holds `nq` rounded up to 8). Returns
+    /// the block's finiteness probe: NaN in a lane where a coordinate is not finite, ±0
+    /// elsewhere.
+    #[inline(always)]
+    pub(crate) fn load_coordinates<const L: usize>(
+        self,
+        q: &[f64],
+        nq: usize,
+        idx: &[usize; L],
+        out: &mut [Lanes<L>],
+    ) -> Lanes<L> {
+        #[cfg(target_arch = "x86_64")]
+        if let (Self::Avx512, Some(out8)) = (self, as8(out)) {
+            let starts: [usize; 8] = core::array::from_fn(|l| idx[l % L] * nq);
+            if starts.iter().all(|&s| s + nq <= q.len()) && out8.len() >= nq.next_multiple_of(8) {
+                #[allow(unsafe_code, reason = "AVX-512F calls")]
+                // SAFETY: `Io::Avx512` exists only when the CPU has AVX-512F (`Io::new`); every
+                // row and `out` were just checked to be long enough.
+                let p = unsafe { avx512::load(q, starts, nq, out8) };
+                return Lanes(core::array::from_fn(|l| p[l % 8]));
+            }
+        }
+        for l in 0..L {
+            let row = &q[idx[l] * nq..(idx[l] + 1) * nq];
+            for (j, x) in row.iter().enumerate() {
+                out[j].0[l] = *x;
+            }
+        }
+        let mut probe = Lanes::ZERO;
+        for x in &out[..nq] {
+            probe += *x * 0.0;
+        }
+        probe
+    }
+
     /// Sets every motion of `out` to zero (without a call to `memset`, whose set-up costs more
     /// than the few columns of a run off a Jacobian's path).
     #[inline(always)]
@@ -106,6 +143,7 @@ impl Io {
 }
 
 /// The 6 rows of a lane motion, in `Motion`'s field order.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn motion_rows<const L: usize>(x: &LMotion<L>) -> [Lanes<L>; 6] {
     let (a, b) = (&x.linear, &x.angular);
@@ -114,6 +152,7 @@ fn motion_rows<const L: usize>(x: &LMotion<L>) -> [Lanes<L>; 6] {
 
 /// The 12 rows of a lane placement, in `Se3`'s field order (the rotation's columns, then the
 /// translation).
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn se3_rows<const L: usize>(x: &LSe3<L>) -> [Lanes<L>; 12] {
     let (r, t) = (&x.rotation, &x.translation);
@@ -124,6 +163,7 @@ fn se3_rows<const L: usize>(x: &LSe3<L>) -> [Lanes<L>; 12] {
 }
 
 /// The rows as 8-lane arrays when `L` is 8 (decided at compile time).
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn rows8<const L: usize, const R: usize>(rows: &[Lanes<L>; R]) -> Option<[[f64; 8]; R]> {
     if L != 8 {
@@ -132,6 +172,18 @@ fn rows8<const L: usize, const R: usize>(rows: &[Lanes<L>; R]) -> Option<[[f64; 
     Some(core::array::from_fn(|i| {
         <[f64; 8]>::try_from(&rows[i].0[..]).unwrap_or_default()
     }))
+}
+
+/// `x` as 8-lane values when `L` is 8 (decided at compile time).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn as8<const L: usize>(x: &mut [Lanes<L>]) -> Option<&mut [Lanes<8>]> {
+    if L != 8 {
+        return None;
+    }
+    #[allow(unsafe_code, reason = "a cast between one type's two spellings")]
+    // SAFETY: `L` is 8, so `Lanes<L>` is `Lanes<8>`: same type, same length.
+    Some(unsafe { &mut *(core::ptr::from_mut(x) as *mut [Lanes<8>]) })
 }
 
 /// Where the records of a block go: the first state's record and the distance to the next, as
@@ -167,9 +219,50 @@ impl Place {
 mod avx512 {
     use super::Place;
     use core::arch::x86_64::{
-        __m512d, _mm512_loadu_pd, _mm512_mask_storeu_pd, _mm512_setzero_pd, _mm512_shuffle_f64x2,
-        _mm512_storeu_pd, _mm512_unpackhi_pd, _mm512_unpacklo_pd,
+        __m512d, _mm512_add_pd, _mm512_loadu_pd, _mm512_mask_storeu_pd, _mm512_maskz_loadu_pd,
+        _mm512_mul_pd, _mm512_setzero_pd, _mm512_shuffle_f64x2, _mm512_storeu_pd,
+        _mm512_unpackhi_pd, _mm512_unpacklo_pd,
     };
+    use kinetree_model::spatial::lanes::Lanes;
+
+    /// Moves `nq` numbers from each of the eight rows of `q` starting at `starts` into lanes
+    /// (`out[j]` = number `j` of every row, `out[nq..]` up to the next multiple of 8 zero), eight
+    /// numbers at a time with an 8×8 transpose; returns the probe `Σ x·0` of every row.
+    ///
+    /// # Safety
+    /// The CPU has AVX-512F, `starts[l] + nq <= q.len()` for every row, and
+    /// `out.len() >= nq` rounded up to 8.
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    pub(super) unsafe fn load(
+        q: &[f64],
+        starts: [usize; 8],
+        nq: usize,
+        out: &mut [Lanes<8>],
+    ) -> [f64; 8] {
+        let zero = _mm512_setzero_pd();
+        let mut probe = zero;
+        let mut j0 = 0;
+        while j0 < nq {
+            let n = (nq - j0).min(8);
+            let mask = if n == 8 { 0xff } else { (1u8 << n) - 1 };
+            let r: [__m512d; 8] = core::array::from_fn(|l| {
+                // SAFETY: numbers starts[l] + j0 .. starts[l] + j0 + n lie in `q` (the caller's
+                // promise); the mask reads only those.
+                unsafe { _mm512_maskz_loadu_pd(mask, q.as_ptr().add(starts[l] + j0)) }
+            });
+            for (j, t) in transpose(r).iter().enumerate() {
+                probe = _mm512_add_pd(probe, _mm512_mul_pd(*t, zero));
+                // SAFETY: `out[j0 + j]` is eight numbers (indexing checks it is there).
+                unsafe { _mm512_storeu_pd(out[j0 + j].0.as_mut_ptr(), *t) };
+            }
+            j0 += 8;
+        }
+        let mut p = [0.0; 8];
+        // SAFETY: `p` is eight numbers.
+        unsafe { _mm512_storeu_pd(p.as_mut_ptr(), probe) };
+        p
+    }
 
     /// Writes `len` zeros from `at`, eight at a time.
     ///
