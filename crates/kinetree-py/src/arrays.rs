@@ -24,6 +24,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyComplex, PyFloat, PyInt};
 use rayon::prelude::*;
 use std::cell::RefCell;
+use std::ops::Range;
 
 /// Two arrays returned together (`simulate`'s configurations and velocities, `bounds`' corners).
 pub(crate) type ArrayPair<'py> = (
@@ -576,29 +577,42 @@ where
         match count {
             None => one(values)?,
             Some(n) => {
-                // The results are written while the inputs are read: an input read in place
-                // from memory that `out` shares is copied first.
-                let target = address_range(values);
-                let copies: Vec<Option<States>> = inputs
-                    .iter()
-                    .map(|s| {
-                        let shared = s.values.shared_range();
-                        shared
-                            .filter(|r| r.start < target.end && target.start < r.end)
-                            .map(|_| s.copied(family))
-                            .transpose()
-                    })
-                    .collect::<PyResult<_>>()?;
-                let inputs: Vec<&States> = inputs
-                    .iter()
-                    .zip(&copies)
-                    .map(|(s, copy)| copy.as_ref().unwrap_or(s))
-                    .collect();
+                let copies = copies_apart(inputs, &[address_range(values)], family)?;
+                let inputs = apart(inputs, &copies);
                 map_stack(py, model, &inputs, n, size, values, &f)?;
             }
         }
     }
     Ok((array, count))
+}
+
+/// Copies of the inputs read in place from memory that one of `targets` (the addresses of the
+/// results) shares, `None` for the others: results are written while the inputs are read. Pass
+/// them to [`apart`].
+pub(crate) fn copies_apart(
+    inputs: &[&States],
+    targets: &[Range<usize>],
+    family: Family,
+) -> PyResult<Vec<Option<States>>> {
+    inputs
+        .iter()
+        .map(|s| {
+            let shared = s.values.shared_range();
+            shared
+                .filter(|r| targets.iter().any(|t| r.start < t.end && t.start < r.end))
+                .map(|_| s.copied(family))
+                .transpose()
+        })
+        .collect()
+}
+
+/// The inputs with the copies of [`copies_apart`] in place of the originals.
+pub(crate) fn apart<'a>(inputs: &[&'a States], copies: &'a [Option<States>]) -> Vec<&'a States> {
+    inputs
+        .iter()
+        .zip(copies)
+        .map(|(s, copy)| copy.as_ref().unwrap_or(s))
+        .collect()
 }
 
 /// Whether numpy may write into `array` (its `WRITEABLE` flag).

@@ -178,18 +178,29 @@ impl PyModel {
     /// >>> dtau_dq, dtau_dv, M = panda.rnea_derivatives(q, v, a)
     /// >>> dtau_dq.shape, bool(np.allclose(M, panda.crba(q)))
     /// ((9, 9), True)
+    ///
+    /// ``out``, when given, is a tuple of three separate C-contiguous, writeable float64 arrays of
+    /// the results' shape: the matrices are written into them and they are returned (a loop then
+    /// allocates nothing per call).
+    ///
+    /// >>> out = tuple(np.empty((9, 9)) for _ in range(3))
+    /// >>> panda.rnea_derivatives(q, v, a, out=out)[2] is out[2]
+    /// True
+    #[pyo3(signature = (q, v, a, out = None))]
     fn rnea_derivatives<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         a: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
         let (q, v, a) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(a, "a", F)?);
         let [dq, dv, da] = run_parts_batched(
             py,
             self,
             &[&q, &v, &a],
+            out,
             F,
             |d, x| {
                 let r = rnea_derivatives(&self.model, d, x[0], x[1], x[2])?;
@@ -209,13 +220,17 @@ impl PyModel {
     /// >>> q = panda.neutral()
     /// >>> bool(np.allclose(panda.gravity_derivatives(q), panda.rnea_derivatives(q, np.zeros(9), np.zeros(9))[0]))
     /// True
+    ///
+    /// ``out``: a float64 array of that shape to write the result into, as for ``rnea``.
+    #[pyo3(signature = (q, out = None))]
     fn gravity_derivatives<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Derivative<'py>> {
         let q = self.q(q, F)?;
-        let [dg] = run_parts(py, self, &[&q], F, |d, x| {
+        let [dg] = run_parts(py, self, &[&q], out, F, |d, x| {
             Ok([generalized_gravity_derivatives(&self.model, d, x[0])?])
         })?;
         Ok(dg)
@@ -231,15 +246,20 @@ impl PyModel {
     /// >>> dddq_dq, dddq_dv, Minv = panda.aba_derivatives(q, v, np.zeros(9))
     /// >>> bool(np.allclose(Minv, panda.minv(q)))
     /// True
+    ///
+    /// ``out``: a tuple of three separate arrays to write the results into, as for
+    /// ``rnea_derivatives``.
+    #[pyo3(signature = (q, v, tau, out = None))]
     fn aba_derivatives<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
         let (q, v, t) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(tau, "tau", F)?);
-        let [dq, dv, dtau] = run_parts(py, self, &[&q, &v, &t], F, |d, x| {
+        let [dq, dv, dtau] = run_parts(py, self, &[&q, &v, &t], out, F, |d, x| {
             let r = aba_derivatives(&self.model, d, x[0], x[1], x[2])?;
             Ok([r.dddq_dq, r.dddq_dv, r.dddq_dtau])
         })?;

@@ -134,3 +134,79 @@ def test_a_wrong_out_is_refused(method, panda):
     out = np.zeros(shape)
     with pytest.raises(error):
         getattr(panda, method)(*args_of(panda, np.full_like(q, np.nan), v, a), out=out)
+
+
+# name -> (inputs as a function of (q, v, a), number of results)
+DERIVATIVES = {
+    "rnea_derivatives": (lambda q, v, a: (q, v, a), 3),
+    "aba_derivatives": (lambda q, v, a: (q, v, a), 3),
+    "gravity_derivatives": (lambda q, v, a: (q,), 1),
+}
+
+
+@pytest.mark.parametrize("method", sorted(DERIVATIVES))
+@pytest.mark.parametrize("n", [None, 3, 64, 600])
+def test_derivatives_into_out_equal_the_returned_ones(method, n, panda):
+    args_of, parts = DERIVATIVES[method]
+    q, v, a = states(panda, 1 if n is None else n)
+    if n is None:
+        q, v, a = q[0], v[0], a[0]
+    expected = getattr(panda, method)(*args_of(q, v, a))
+    expected = expected if parts > 1 else (expected,)
+    shape = (panda.nv, panda.nv) if n is None else (n, panda.nv, panda.nv)
+    out = tuple(np.full(shape, np.nan) for _ in range(parts))
+    got = getattr(panda, method)(*args_of(q, v, a), out=out if parts > 1 else out[0])
+    got = got if parts > 1 else (got,)
+    for g, o, e in zip(got, out, expected):
+        assert g is o
+        assert np.array_equal(o, e)  # bit for bit
+
+
+@pytest.mark.parametrize("method", sorted(DERIVATIVES))
+def test_derivatives_out_may_share_memory_with_a_stacked_input(method, panda):
+    """An input stack read in place and overlapping a result is copied before the results are
+    written (600 states: more than 4 096 numbers, read in place)."""
+    args_of, parts = DERIVATIVES[method]
+    n, nv = 600, panda.nv
+    Q, V, A = states(panda, n)
+    expected = getattr(panda, method)(*args_of(Q, V, A))
+    expected = expected if parts > 1 else (expected,)
+    memory = np.zeros(n * nv * nv)
+    memory[:Q.size] = Q.ravel()
+    out = (memory.reshape(n, nv, nv),) + tuple(np.empty((n, nv, nv)) for _ in range(parts - 1))
+    getattr(panda, method)(*args_of(memory[:Q.size].reshape(Q.shape), V, A),
+                           out=out if parts > 1 else out[0])
+    for o, e in zip(out, expected):
+        assert np.array_equal(o, e)
+
+
+@pytest.mark.parametrize("method", ["rnea_derivatives", "aba_derivatives"])
+def test_a_wrong_derivatives_out_is_refused(method, panda):
+    args_of, _ = DERIVATIVES[method]
+    q, v, a = (x[0] for x in states(panda, 1))
+    nv = panda.nv
+    ok = [np.zeros((nv, nv)) for _ in range(3)]
+    readonly = np.zeros((nv, nv))
+    readonly.flags.writeable = False
+    bad = {
+        "one array": (np.zeros((nv, nv)), "out must be a tuple of 3"),
+        "two arrays": (tuple(ok[:2]), "out must be a tuple of 3"),
+        "the same array twice": ((ok[0], ok[1], ok[0]), r"out\[0\] and out\[2\] share memory"),
+        "a wrong shape": ((ok[0], np.zeros((nv, nv + 1)), ok[2]), f"of shape \\({nv}, {nv}\\)"),
+        "float32": ((ok[0], ok[1], np.zeros((nv, nv), dtype=np.float32)), "dtype float32"),
+        "a read-only array": ((ok[0], readonly, ok[2]), "cannot be written"),
+    }
+    for what, (out, message) in bad.items():
+        with pytest.raises(kinetree.DynamicsError, match=message) as info:
+            getattr(panda, method)(*args_of(q, v, a), out=out)
+        assert isinstance(info.value, ValueError), what
+    # views of one array that overlap are refused
+    memory = np.zeros(3 * nv * nv)
+    views = (memory[:nv * nv].reshape(nv, nv), memory[nv:nv + nv * nv].reshape(nv, nv),
+             memory[2 * nv * nv:].reshape(nv, nv))
+    with pytest.raises(kinetree.DynamicsError, match=r"out\[0\] and out\[1\] share memory"):
+        getattr(panda, method)(*args_of(q, v, a), out=views)
+    # a list is accepted as a tuple
+    lst = [np.zeros((nv, nv)) for _ in range(3)]
+    got = getattr(panda, method)(*args_of(q, v, a), out=lst)
+    assert all(g is o for g, o in zip(got, lst))
