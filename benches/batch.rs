@@ -156,10 +156,12 @@ fn batch(c: &mut Criterion) {
     }
 }
 
-/// The inverse-dynamics derivatives (the three `nv x nv` matrices of each state).
+/// The inverse- and forward-dynamics derivatives (the three `nv x nv` matrices of each state).
 fn derivatives(c: &mut Criterion) {
-    use kinetree::dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
-    use kinetree::dynamics::{DerivativesData, rnea_derivatives};
+    use kinetree::dynamics::batch::{
+        DerivativesBatch, aba_derivatives_batch, rnea_derivatives_batch,
+    };
+    use kinetree::dynamics::{DerivativesData, aba_derivatives, rnea_derivatives};
     for (name, root) in ROBOTS {
         let model = load(name, root);
         let (nq, nv) = (model.nq(), model.nv());
@@ -191,6 +193,25 @@ fn derivatives(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("rnea_derivatives", "parallel"), |b| {
             b.iter(|| {
                 par::rnea_derivatives_batch(&model, &mut pd, black_box(&q), &v, &a, dq, dv, da)
+            })
+        });
+        // `a` serves as the torques.
+        g.bench_function(BenchmarkId::new("aba_derivatives", "one_state"), |b| {
+            b.iter(|| {
+                for k in 0..N {
+                    let r = k * nv..(k + 1) * nv;
+                    let qk = &q[k * nq..(k + 1) * nq];
+                    let d = aba_derivatives(&model, &mut data, qk, &v[r.clone()], &a[r]);
+                    let _ = black_box(d.is_ok());
+                }
+            })
+        });
+        g.bench_function(BenchmarkId::new("aba_derivatives", "batched"), |b| {
+            b.iter(|| aba_derivatives_batch(&model, &mut db, black_box(&q), &v, &a, dq, dv, da))
+        });
+        g.bench_function(BenchmarkId::new("aba_derivatives", "parallel"), |b| {
+            b.iter(|| {
+                par::aba_derivatives_batch(&model, &mut pd, black_box(&q), &v, &a, dq, dv, da)
             })
         });
         g.finish();

@@ -249,7 +249,9 @@ pub fn frame_jacobian_batch(
 }
 
 #[cfg(feature = "dynamics")]
-pub use dynamics::{aba_batch, crba_batch, rnea_batch, rnea_derivatives_batch};
+pub use dynamics::{
+    aba_batch, aba_derivatives_batch, crba_batch, rnea_batch, rnea_derivatives_batch,
+};
 
 #[cfg(feature = "dynamics")]
 mod dynamics {
@@ -366,25 +368,70 @@ mod dynamics {
         dtau_dv: &mut [f64],
         dtau_da: &mut [f64],
     ) -> Result<(), DynamicsError> {
+        let outputs = [dtau_dq, dtau_dv, dtau_da];
+        derivatives(db::rnea_derivatives_batch, model, pool, [q, v, a], outputs)
+    }
+
+    /// [`dynamics::batch::aba_derivatives_batch`](db::aba_derivatives_batch) on every core.
+    ///
+    /// # Errors
+    /// As the one-core function; a bad state is reported with its index in the whole batch.
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "three inputs and three outputs of one batch, as the one-core function"
+    )]
+    pub fn aba_derivatives_batch(
+        model: &Model,
+        pool: &mut Parallel<DerivativesBatch>,
+        q: &[f64],
+        v: &[f64],
+        tau: &[f64],
+        dddq_dq: &mut [f64],
+        dddq_dv: &mut [f64],
+        dddq_dtau: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let outputs = [dddq_dq, dddq_dv, dddq_dtau];
+        derivatives(db::aba_derivatives_batch, model, pool, [q, v, tau], outputs)
+    }
+
+    /// A one-core batched derivatives function: `(q, v, a or tau)` in, three `nv x nv` matrices
+    /// per state out.
+    type DerivativesFn = fn(
+        &Model,
+        &mut DerivativesBatch,
+        &[f64],
+        &[f64],
+        &[f64],
+        &mut [f64],
+        &mut [f64],
+        &mut [f64],
+    ) -> Result<(), DynamicsError>;
+
+    /// Splits a batch of `f` over the pool (wrong lengths go to one worker, which names them).
+    fn derivatives(
+        f: DerivativesFn,
+        model: &Model,
+        pool: &mut Parallel<DerivativesBatch>,
+        [q, v, x]: [&[f64]; 3],
+        [o0, o1, o2]: [&mut [f64]; 3],
+    ) -> Result<(), DynamicsError> {
         let (nq, nv) = (model.nq(), model.nv());
         let nn = nv * nv;
-        let lengths = [v.len(), a.len(), dtau_dq.len()];
+        let lengths = [v.len(), x.len(), o0.len()];
         let Some(n) = states(model, q.len(), &lengths, nn)
-            .filter(|&n| dtau_dv.len() == n * nn && dtau_da.len() == n * nn)
+            .filter(|&n| o1.len() == n * nn && o2.len() == n * nn)
         else {
-            let w = &mut pool.workers[0];
-            return db::rnea_derivatives_batch(model, w, q, v, a, dtau_dq, dtau_dv, dtau_da);
+            return f(model, &mut pool.workers[0], q, v, x, o0, o1, o2);
         };
-        let inputs = (In(q, nq), In(v, nv), In(a, nv));
-        let outputs = (Out(dtau_dq, nn), Out(dtau_dv, nn), Out(dtau_da, nn));
+        let inputs = (In(q, nq), In(v, nv), In(x, nv));
+        let outputs = (Out(o0, nn), Out(o1, nn), Out(o2, nn));
         run(
             &mut pool.workers,
             n,
             0,
             (inputs, outputs),
             &|w, (i, o), first| {
-                db::rnea_derivatives_batch(model, w, i.0.0, i.1.0, i.2.0, o.0.0, o.1.0, o.2.0)
-                    .map_err(|e| shift(e, first))
+                f(model, w, i.0.0, i.1.0, i.2.0, o.0.0, o.1.0, o.2.0).map_err(|e| shift(e, first))
             },
         )
     }

@@ -139,41 +139,78 @@ fn collision_batches_split_without_changing_a_number() {
 }
 
 #[test]
-fn batched_rnea_derivatives_split_without_changing_a_number() {
-    use kinetree::dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
-    for (file, root) in [
-        ("panda.urdf", RootJoint::Fixed),
-        ("solo12.urdf", RootJoint::Floating),
-    ] {
-        let model = robot(file, root);
-        let n = 37;
-        let nn = model.nv() * model.nv();
-        let (mut q, v, a) = states(&model, n);
-        let mut db = DerivativesBatch::new(&model);
-        let mut want = [vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]];
-        let [dq, dv, da] = &mut want;
-        rnea_derivatives_batch(&model, &mut db, &q, &v, &a, dq, dv, da).unwrap();
-        for threads in [1, 2, 3, 8] {
-            let mut pd = Parallel::<DerivativesBatch>::with_threads(&model, threads);
-            let mut got = [vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]];
-            let [dq, dv, da] = &mut got;
-            par::rnea_derivatives_batch(&model, &mut pd, &q, &v, &a, dq, dv, da).unwrap();
-            assert_eq!(got, want, "{file}: {threads} blocks");
+fn batched_derivatives_split_without_changing_a_number() {
+    use kinetree::dynamics::batch::{
+        DerivativesBatch, aba_derivatives_batch, rnea_derivatives_batch,
+    };
+    type One = fn(
+        &Model,
+        &mut DerivativesBatch,
+        &[f64],
+        &[f64],
+        &[f64],
+        &mut [f64],
+        &mut [f64],
+        &mut [f64],
+    ) -> Result<(), DynamicsError>;
+    type Par = fn(
+        &Model,
+        &mut Parallel<DerivativesBatch>,
+        &[f64],
+        &[f64],
+        &[f64],
+        &mut [f64],
+        &mut [f64],
+        &mut [f64],
+    ) -> Result<(), DynamicsError>;
+    let algorithms: [(&str, One, Par, &str); 2] = [
+        (
+            "rnea",
+            rnea_derivatives_batch,
+            par::rnea_derivatives_batch,
+            "a",
+        ),
+        (
+            "aba",
+            aba_derivatives_batch,
+            par::aba_derivatives_batch,
+            "tau",
+        ),
+    ];
+    for (name, one, parallel, third) in algorithms {
+        for (file, root) in [
+            ("panda.urdf", RootJoint::Fixed),
+            ("solo12.urdf", RootJoint::Floating),
+        ] {
+            let model = robot(file, root);
+            let n = 37;
+            let nn = model.nv() * model.nv();
+            let (mut q, v, a) = states(&model, n);
+            let mut db = DerivativesBatch::new(&model);
+            let mut want = [vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]];
+            let [dq, dv, da] = &mut want;
+            one(&model, &mut db, &q, &v, &a, dq, dv, da).unwrap();
+            for threads in [1, 2, 3, 8] {
+                let mut pd = Parallel::<DerivativesBatch>::with_threads(&model, threads);
+                let mut got = [vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]];
+                let [dq, dv, da] = &mut got;
+                parallel(&model, &mut pd, &q, &v, &a, dq, dv, da).unwrap();
+                assert_eq!(got, want, "{name} {file}: {threads} blocks");
+            }
+            // A bad state keeps its index in the whole batch.
+            q[33 * model.nq()] = f64::NAN;
+            let mut pd = Parallel::<DerivativesBatch>::with_threads(&model, 2);
+            let [dq, dv, da] = &mut want;
+            let err = parallel(&model, &mut pd, &q, &v, &a, dq, dv, da).unwrap_err();
+            assert!(
+                matches!(err, DynamicsError::InBatchState { index: 33, .. }),
+                "{name} {file}: {err:?}"
+            );
+            let err = parallel(&model, &mut pd, &q, &v, &a[1..], dq, dv, da).unwrap_err();
+            assert!(
+                matches!(err, DynamicsError::DimensionMismatch { what, .. } if what == third),
+                "{name} {file}: {err:?}"
+            );
         }
-        // A bad state keeps its index in the whole batch.
-        q[33 * model.nq()] = f64::NAN;
-        let mut pd = Parallel::<DerivativesBatch>::with_threads(&model, 2);
-        let [dq, dv, da] = &mut want;
-        let err = par::rnea_derivatives_batch(&model, &mut pd, &q, &v, &a, dq, dv, da).unwrap_err();
-        assert!(
-            matches!(err, DynamicsError::InBatchState { index: 33, .. }),
-            "{file}: {err:?}"
-        );
-        let err =
-            par::rnea_derivatives_batch(&model, &mut pd, &q, &v, &a[1..], dq, dv, da).unwrap_err();
-        assert!(
-            matches!(err, DynamicsError::DimensionMismatch { what: "a", .. }),
-            "{file}: {err:?}"
-        );
     }
 }

@@ -172,12 +172,17 @@ fn bench_batch_times_collision_distances() {
         ]);
         assert!(o.status.success(), "{}", stderr(&o));
         serde_json::from_str::<serde_json::Value>(stdout(&o).trim()).unwrap()["ns_per_state"]
-            ["collision_distances"]
             .clone()
     };
-    let row = run(&data("reference/urdf/panda_collision.urdf"));
-    for key in ["single", "batched", "parallel"] {
-        assert!(row[key].as_f64().is_some_and(|x| x > 0.0), "{key}: {row}");
+    let rows = run(&data("reference/urdf/panda_collision.urdf"));
+    for name in ["collision_distances", "rnea_derivatives", "aba_derivatives"] {
+        let row = &rows[name];
+        for key in ["single", "batched", "parallel"] {
+            assert!(
+                row[key].as_f64().is_some_and(|x| x > 0.0),
+                "{name} {key}: {row}"
+            );
+        }
     }
 }
 

@@ -11,7 +11,8 @@ use crate::parts::{run_parts, run_parts_batched};
 use crate::scratch::new_data;
 use crate::values::Values;
 use kinetree::dynamics::batch::{
-    DerivativesBatch, aba_batch, crba_batch, rnea_batch, rnea_derivatives_batch,
+    DerivativesBatch, aba_batch, aba_derivatives_batch, crba_batch, rnea_batch,
+    rnea_derivatives_batch,
 };
 use kinetree::dynamics::{
     DynamicsData, Integrator, aba, aba_derivatives, center_of_mass, center_of_mass_jacobian,
@@ -259,10 +260,21 @@ impl PyModel {
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(Derivative<'py>, Derivative<'py>, Derivative<'py>)> {
         let (q, v, t) = (self.q(q, F)?, self.v(v, "v", F)?, self.v(tau, "tau", F)?);
-        let [dq, dv, dtau] = run_parts(py, self, &[&q, &v, &t], out, F, |d, x| {
-            let r = aba_derivatives(&self.model, d, x[0], x[1], x[2])?;
-            Ok([r.dddq_dq, r.dddq_dv, r.dddq_dtau])
-        })?;
+        let [dq, dv, dtau] = run_parts_batched(
+            py,
+            self,
+            &[&q, &v, &t],
+            out,
+            F,
+            |d, x| {
+                let r = aba_derivatives(&self.model, d, x[0], x[1], x[2])?;
+                Ok([r.dddq_dq, r.dddq_dv, r.dddq_dtau])
+            },
+            |b: &mut DerivativesBatch, x, [dq, dv, dtau]| {
+                aba_derivatives_batch(&self.model, b, x[0], x[1], x[2], dq, dv, dtau)
+                    .map_err(|e| in_block(e.into()))
+            },
+        )?;
         Ok((dq, dv, dtau))
     }
 

@@ -7,7 +7,7 @@
 //! printed. With `--json`:
 //! `{"model", "nq", "nv", "batch", "threads", "simd", "ns_per_state": {"fk": {"single",
 //! "batched", "parallel"}, …}}` with the keys `fk`, `fk_frames`, `frame_jacobian`, `rnea`,
-//! `aba`, `crba`, `rnea_derivatives` (the three matrices), and `collision_distances` (all-pairs signed distances, placements included)
+//! `aba`, `crba`, `rnea_derivatives` and `aba_derivatives` (the three matrices each), and `collision_distances` (all-pairs signed distances, placements included)
 //! for models with collision geometry, timed on as many states as `--calls` states of 300 ns
 //! would take (mesh pairs cost milliseconds a state), in batches cut down to that many states
 //! (at least 16).
@@ -202,14 +202,59 @@ pub(crate) fn rows(s: &Setup<'_>) -> Vec<Row> {
             black_box(&mass);
         }),
     });
-    rows.push(rnea_derivatives_row(s));
+    rows.extend(derivatives_rows(s));
     rows
 }
 
-/// `rnea_derivatives`: the three `nv x nv` matrices of each state.
-fn rnea_derivatives_row(setup: &Setup<'_>) -> Row {
-    use kinetree::dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
-    use kinetree::dynamics::{DerivativesData, rnea_derivatives};
+/// `rnea_derivatives` and `aba_derivatives`: the three `nv x nv` matrices of each state.
+fn derivatives_rows(setup: &Setup<'_>) -> [Row; 2] {
+    use kinetree::dynamics::batch::{aba_derivatives_batch, rnea_derivatives_batch};
+    use kinetree::dynamics::{aba_derivatives, rnea_derivatives};
+    [
+        derivatives_row(
+            setup,
+            "rnea_derivatives",
+            &mut |m, d, q, v, a| rnea_derivatives(m, d, q, v, a).map_or(0.0, |d| d.dtau_dq[0]),
+            rnea_derivatives_batch,
+            par::rnea_derivatives_batch,
+        ),
+        derivatives_row(
+            setup,
+            "aba_derivatives",
+            &mut |m, d, q, v, t| aba_derivatives(m, d, q, v, t).map_or(0.0, |d| d.dddq_dq[0]),
+            aba_derivatives_batch,
+            par::aba_derivatives_batch,
+        ),
+    ]
+}
+
+/// A batched derivatives function: `(q, v, a or tau)` in, three `nv x nv` matrices per state out.
+type Batched<W> = fn(
+    &Model,
+    &mut W,
+    &[f64],
+    &[f64],
+    &[f64],
+    &mut [f64],
+    &mut [f64],
+    &mut [f64],
+) -> Result<(), kinetree::dynamics::DynamicsError>;
+
+/// A one-state derivatives function (returning an entry, kept alive).
+type Single =
+    dyn FnMut(&Model, &mut kinetree::dynamics::DerivativesData, &[f64], &[f64], &[f64]) -> f64;
+
+/// One derivatives row: `single` computes one state (and returns an entry, kept alive),
+/// `batched` and `parallel` the whole batch.
+fn derivatives_row(
+    setup: &Setup<'_>,
+    name: &'static str,
+    single: &mut Single,
+    batched: Batched<kinetree::dynamics::batch::DerivativesBatch>,
+    parallel: Batched<Parallel<kinetree::dynamics::batch::DerivativesBatch>>,
+) -> Row {
+    use kinetree::dynamics::DerivativesData;
+    use kinetree::dynamics::batch::DerivativesBatch;
     let Setup { model, n, .. } = *setup;
     let (q, v, a) = (&setup.q[..], &setup.v[..], &setup.a[..]);
     let (nq, nv) = (model.nq(), model.nv());
@@ -224,21 +269,20 @@ fn rnea_derivatives_row(setup: &Setup<'_>) -> Row {
     ];
     let [dq, dv, da] = &mut out;
     Row {
-        name: "rnea_derivatives",
+        name,
         single: t(&mut || {
             for k in 0..n {
                 let r = k * nv..(k + 1) * nv;
                 let qk = &q[k * nq..(k + 1) * nq];
-                let d = rnea_derivatives(model, &mut data, qk, &v[r.clone()], &a[r]);
-                let _ = black_box(d.map(|d| d.dtau_dq[0]));
+                black_box(single(model, &mut data, qk, &v[r.clone()], &a[r]));
             }
         }),
         batched: t(&mut || {
-            let _ = rnea_derivatives_batch(model, &mut batch, q, v, a, dq, dv, da);
+            let _ = batched(model, &mut batch, q, v, a, dq, dv, da);
             black_box(&*da);
         }),
         parallel: t(&mut || {
-            let _ = par::rnea_derivatives_batch(model, &mut pool, q, v, a, dq, dv, da);
+            let _ = parallel(model, &mut pool, q, v, a, dq, dv, da);
             black_box(&*da);
         }),
     }

@@ -1,5 +1,5 @@
-//! Batched dynamics: RNEA, ABA, CRBA and the RNEA derivatives of `N` states in one call, into
-//! buffers the caller owns.
+//! Batched dynamics: RNEA, ABA, CRBA and the RNEA and ABA derivatives of `N` states in one
+//! call, into buffers the caller owns.
 //!
 //! The states are stored one after another, as in
 //! [`kinetree_kinematics::batch`]: `q` holds `N · model.nq()` numbers, `v`, `a` and `tau`
@@ -33,6 +33,7 @@
 //! ```
 
 mod aba;
+mod aba_derivatives;
 mod articulated;
 mod composite;
 mod crba;
@@ -49,7 +50,7 @@ use kinetree_kinematics::batch::{Simd, batch_size};
 use kinetree_kinematics::model::Model;
 use rnea::RneaLanes;
 
-pub use derivatives::{DerivativesBatch, rnea_derivatives_batch};
+pub use derivatives::{DerivativesBatch, aba_derivatives_batch, rnea_derivatives_batch};
 
 /// The lane buffers of every batched algorithm for one lane width.
 #[derive(Clone, Debug, Default)]
@@ -192,6 +193,32 @@ fn check_rnea_states(
     Ok(())
 }
 
+/// Checks every one of the `n` states `(q, v, tau)` as [`aba`](crate::aba) does (the buffers'
+/// lengths already checked); an error names the first bad state by its index.
+fn check_aba_states(
+    model: &Model,
+    data: &DynamicsData,
+    n: usize,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+) -> Result<(), DynamicsError> {
+    let (nq, nv) = (model.nq(), model.nv());
+    for k in 0..n {
+        let r = k * nv..(k + 1) * nv;
+        check_inputs(
+            model,
+            data,
+            &q[k * nq..(k + 1) * nq],
+            Some(&v[r.clone()]),
+            None,
+        )
+        .and_then(|()| check_vector("tau", &tau[r], nv))
+        .map_err(in_state(k))?;
+    }
+    Ok(())
+}
+
 /// Inverse dynamics of `N` states: `tau` (`N · nv`) receives the torques
 /// [`rnea`](crate::rnea) computes for each state `(q, v, a)` (`N · nq`, `N · nv`, `N · nv`).
 /// Allocates nothing.
@@ -274,18 +301,7 @@ pub fn aba_batch(
     check_buffer("v", v.len(), n, nv)?;
     check_buffer("tau", tau.len(), n, nv)?;
     check_buffer("ddq", ddq.len(), n, nv)?;
-    for k in 0..n {
-        let r = k * nv..(k + 1) * nv;
-        check_inputs(
-            model,
-            &batch.data,
-            &q[k * nq..(k + 1) * nq],
-            Some(&v[r.clone()]),
-            None,
-        )
-        .and_then(|()| check_vector("tau", &tau[r], nv))
-        .map_err(in_state(k))?;
-    }
+    check_aba_states(model, &batch.data, n, q, v, tau)?;
     let data = &batch.data;
     kinetree_kinematics::simd_dispatch!(
         batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, aba_kernel,

@@ -5,14 +5,14 @@
 use crate::derivatives::DerivativesData;
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::batch::{body_transform, gather};
-use kinetree_kinematics::model::Model;
+use kinetree_kinematics::model::{Body, Model};
 use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LSe3, LVec3, Lanes};
 use kinetree_kinematics::spatial::{Inertia, Motion};
 
 /// `a + b`, entry by entry.
 #[inline(always)]
-fn mat_add<const L: usize>(a: &LMat3<L>, b: &LMat3<L>) -> LMat3<L> {
+pub(crate) fn mat_add<const L: usize>(a: &LMat3<L>, b: &LMat3<L>) -> LMat3<L> {
     LMat3 {
         x_axis: a.x_axis + b.x_axis,
         y_axis: a.y_axis + b.y_axis,
@@ -22,7 +22,7 @@ fn mat_add<const L: usize>(a: &LMat3<L>, b: &LMat3<L>) -> LMat3<L> {
 
 /// `a - b`, entry by entry.
 #[inline(always)]
-fn mat_sub<const L: usize>(a: &LMat3<L>, b: &LMat3<L>) -> LMat3<L> {
+pub(crate) fn mat_sub<const L: usize>(a: &LMat3<L>, b: &LMat3<L>) -> LMat3<L> {
     LMat3 {
         x_axis: a.x_axis - b.x_axis,
         y_axis: a.y_axis - b.y_axis,
@@ -32,7 +32,7 @@ fn mat_sub<const L: usize>(a: &LMat3<L>, b: &LMat3<L>) -> LMat3<L> {
 
 /// The skew matrix `[x]×` (as `derivatives::data::skew`).
 #[inline(always)]
-fn skew<const L: usize>(x: &LVec3<L>) -> LMat3<L> {
+pub(crate) fn skew<const L: usize>(x: &LVec3<L>) -> LMat3<L> {
     let z = Lanes::ZERO;
     LMat3 {
         x_axis: LVec3 {
@@ -53,15 +53,15 @@ fn skew<const L: usize>(x: &LVec3<L>) -> LMat3<L> {
 /// `derivatives::data::WorldInertia`); the mass is the same in every lane.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct LWorldInertia<const L: usize> {
-    m: f64,
-    h: LVec3<L>,
-    i: LMat3<L>,
+    pub(crate) m: f64,
+    pub(crate) h: LVec3<L>,
+    pub(crate) i: LMat3<L>,
 }
 
 impl<const L: usize> LWorldInertia<L> {
     /// The momentum `Y·s` (as `WorldInertia::mul`).
     #[inline(always)]
-    fn mul(&self, s: &LMotion<L>) -> LForce<L> {
+    pub(crate) fn mul(&self, s: &LMotion<L>) -> LForce<L> {
         LForce {
             linear: s.linear.scale_by(self.m) - self.h.cross(&s.angular),
             angular: self.h.cross(&s.linear) + self.i.mul_vec(&s.angular),
@@ -207,28 +207,59 @@ fn variation_block<const L: usize>(
 }
 
 /// The per-body and per-degree-of-freedom lane buffers of the inverse-dynamics derivatives for
-/// one lane width, and the block's three `nv x nv` matrices (row-major, entry by entry in
-/// lanes).
+/// one lane width (the matrices go to a [`Sink`]).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct RneaDerivativesLanes<const L: usize> {
-    world_from_body: Vec<LSe3<L>>,
-    velocity: Vec<LMotion<L>>,
-    acceleration: Vec<LMotion<L>>,
-    force: Vec<LForce<L>>,
-    composite: Vec<LWorldInertia<L>>,
-    momentum: Vec<LVec3<L>>,
-    variation: Vec<LMat3<L>>,
-    s: Vec<LMotion<L>>,
-    dv_dq: Vec<LMotion<L>>,
-    da_dq: Vec<LMotion<L>>,
-    da_dv: Vec<LMotion<L>>,
-    df_dq: Vec<LForce<L>>,
-    df_dv: Vec<LForce<L>>,
-    df_da: Vec<LForce<L>>,
+    pub(crate) world_from_body: Vec<LSe3<L>>,
+    pub(crate) velocity: Vec<LMotion<L>>,
+    pub(crate) acceleration: Vec<LMotion<L>>,
+    pub(crate) force: Vec<LForce<L>>,
+    pub(crate) composite: Vec<LWorldInertia<L>>,
+    pub(crate) momentum: Vec<LVec3<L>>,
+    pub(crate) variation: Vec<LMat3<L>>,
+    pub(crate) s: Vec<LMotion<L>>,
+    pub(crate) dv_dq: Vec<LMotion<L>>,
+    pub(crate) da_dq: Vec<LMotion<L>>,
+    pub(crate) da_dv: Vec<LMotion<L>>,
+    pub(crate) df_dq: Vec<LForce<L>>,
+    pub(crate) df_dv: Vec<LForce<L>>,
+    pub(crate) df_da: Vec<LForce<L>>,
     pub(crate) tau: Vec<Lanes<L>>,
-    pub(crate) dq: Vec<Lanes<L>>,
-    pub(crate) dv: Vec<Lanes<L>>,
-    pub(crate) da: Vec<Lanes<L>>,
+}
+
+/// Where the backward sweep puts the matrices' entries that can be nonzero: entry `(r, c)` of
+/// `∂τ/∂q`, `∂τ/∂v` and `∂τ/∂a` for every lane of the block. Every other entry is zero.
+pub(crate) trait Sink<const L: usize> {
+    /// Stores entry `(r, c)` of the three matrices.
+    fn put(&mut self, r: usize, c: usize, dq: Lanes<L>, dv: Lanes<L>, da: Lanes<L>);
+}
+
+/// A [`Sink`] writing straight into the callers' stacked `nv x nv` matrices (no lane matrices:
+/// on large trees those outgrew the L2 cache), and a finiteness probe of everything written.
+pub(crate) struct OutputSink<'a, const L: usize> {
+    /// Each lane's state's first entry in the outputs.
+    pub(crate) base: [usize; L],
+    pub(crate) nv: usize,
+    pub(crate) dq: &'a mut [f64],
+    pub(crate) dv: &'a mut [f64],
+    pub(crate) da: &'a mut [f64],
+    /// `Σ x · 0` over the entries: zero in a lane exactly when its entries are finite.
+    pub(crate) probe: Lanes<L>,
+}
+
+impl<const L: usize> Sink<L> for OutputSink<'_, L> {
+    #[inline(always)]
+    fn put(&mut self, r: usize, c: usize, dq: Lanes<L>, dv: Lanes<L>, da: Lanes<L>) {
+        self.probe += dq * 0.0 + dv * 0.0 + da * 0.0;
+        let at = r * self.nv + c;
+        for l in 0..L {
+            // Lanes past the batch repeat its last state: they write the same values again.
+            let o = self.base[l] + at;
+            self.dq[o] = dq.0[l];
+            self.dv[o] = dv.0[l];
+            self.da[o] = da.0[l];
+        }
+    }
 }
 
 impl<const L: usize> RneaDerivativesLanes<L> {
@@ -253,9 +284,6 @@ impl<const L: usize> RneaDerivativesLanes<L> {
             df_dv: f(nv),
             df_da: f(nv),
             tau: x(nv),
-            dq: x(nv * nv),
-            dv: x(nv * nv),
-            da: x(nv * nv),
         }
     }
 }
@@ -278,81 +306,127 @@ fn forward<const L: usize>(
     a: &[f64],
     idx: &[usize; L],
 ) {
-    let (nq, nv) = (model.nq(), model.nv());
-    let bodies = model.bodies();
-    let joint_models = data.dynamics.kinematics.joint_models();
+    let nv = model.nv();
     let a0 = LMotion::splat(&Motion::new(-model.gravity(), DVec3::ZERO));
-    for i in 1..bodies.len() {
-        let b = &bodies[i];
-        let jm: &JointModel = &joint_models[i];
-        let x = body_transform(jm, b, q, nq, idx);
-        let p = b.parent;
-        let (omi, vp) = if p == 0 {
-            (x, LMotion::ZERO)
-        } else {
-            (bufs.world_from_body[p].mul(&x), bufs.velocity[p])
-        };
-        bufs.world_from_body[i] = omi;
-        let mut vj = LMotion::ZERO;
-        for k in 0..b.nv {
-            let d = b.idx_v + k;
-            let s = match jm.axis_index() {
-                // `omi.act_motion` of a unit motion: a column of the rotation, and the
-                // translation's cross product with it (the products by the unit motion's zeros
-                // left out).
-                Some((axis, true)) => {
-                    let w = omi.rotation.col(axis);
-                    LMotion {
-                        linear: omi.translation.cross(&w),
-                        angular: w,
-                    }
-                }
-                Some((axis, false)) => LMotion {
-                    linear: omi.rotation.col(axis),
-                    angular: LVec3::ZERO,
-                },
-                None => omi.act_motion(&LMotion::splat(&jm.subspace_column(k))),
-            };
-            bufs.s[d] = s;
-            vj += s.scale(gather(v, nv, d, idx));
-            bufs.dv_dq[d] = vp.cross_motion(&s);
-        }
-        let vi = vp + vj;
-        for d in b.idx_v..b.idx_v + b.nv {
-            bufs.da_dv[d] = vi.cross_motion(&bufs.s[d]) + bufs.dv_dq[d];
-        }
-        let y = LWorldInertia::of_body(&b.inertia, &omi);
-        let h = y.mul(&vi);
-        bufs.velocity[i] = vi;
-        let bias = vp.cross_motion(&vj);
-        let mut force = vi.cross_force(&h);
-        bufs.momentum[i] = h.linear;
-        bufs.variation[i] = variation_block(&y, &vi, &h);
-        bufs.composite[i] = y;
+    for i in 1..model.bodies().len() {
+        let b = &model.bodies()[i];
+        let (bias, force) = velocity_body(bufs, model, data, q, v, idx, i);
         // `sweep` and `forward_acceleration`.
-        let ap = if p == 0 { a0 } else { bufs.acceleration[p] };
+        let ap = if b.parent == 0 {
+            a0
+        } else {
+            bufs.acceleration[b.parent]
+        };
         let mut ai = ap + bias;
         for d in b.idx_v..b.idx_v + b.nv {
             ai += bufs.s[d].scale(gather(a, nv, d, idx));
         }
-        for d in b.idx_v..b.idx_v + b.nv {
-            bufs.da_dq[d] = ap.cross_motion(&bufs.s[d]) + vp.cross_motion(&bufs.dv_dq[d]);
-        }
-        bufs.acceleration[i] = ai;
-        force += y.mul(&ai);
-        bufs.force[i] = force;
+        acceleration_body(bufs, b, i, ap, ai, force);
     }
 }
 
-/// The backward sweep of one block (as `backward::<true>` without external forces and without
-/// the finiteness bound): `τ` and the three matrices' entries that can be nonzero.
+/// The forward sweep's part that does not depend on the acceleration, for body `i` (its
+/// ancestors done): as `forward_velocity`, the placement, velocity, inertia, momentum,
+/// variation and the columns `s`, `∂v/∂q`, `∂a/∂v` stored; the velocity-product bias and the
+/// bias force `v × (Y·v)` returned.
 #[inline(always)]
-fn backward<const L: usize>(
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the batch's inputs, passed through"
+)]
+pub(crate) fn velocity_body<const L: usize>(
     bufs: &mut RneaDerivativesLanes<L>,
     model: &Model,
     data: &DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    idx: &[usize; L],
+    i: usize,
+) -> (LMotion<L>, LForce<L>) {
+    let (nq, nv) = (model.nq(), model.nv());
+    let b = &model.bodies()[i];
+    let jm: &JointModel = &data.dynamics.kinematics.joint_models()[i];
+    let x = body_transform(jm, b, q, nq, idx);
+    let p = b.parent;
+    let (omi, vp) = if p == 0 {
+        (x, LMotion::ZERO)
+    } else {
+        (bufs.world_from_body[p].mul(&x), bufs.velocity[p])
+    };
+    bufs.world_from_body[i] = omi;
+    let mut vj = LMotion::ZERO;
+    for k in 0..b.nv {
+        let d = b.idx_v + k;
+        let s = match jm.axis_index() {
+            // `omi.act_motion` of a unit motion: a column of the rotation, and the
+            // translation's cross product with it (the products by the unit motion's zeros
+            // left out).
+            Some((axis, true)) => {
+                let w = omi.rotation.col(axis);
+                LMotion {
+                    linear: omi.translation.cross(&w),
+                    angular: w,
+                }
+            }
+            Some((axis, false)) => LMotion {
+                linear: omi.rotation.col(axis),
+                angular: LVec3::ZERO,
+            },
+            None => omi.act_motion(&LMotion::splat(&jm.subspace_column(k))),
+        };
+        bufs.s[d] = s;
+        vj += s.scale(gather(v, nv, d, idx));
+        bufs.dv_dq[d] = vp.cross_motion(&s);
+    }
+    let vi = vp + vj;
+    for d in b.idx_v..b.idx_v + b.nv {
+        bufs.da_dv[d] = vi.cross_motion(&bufs.s[d]) + bufs.dv_dq[d];
+    }
+    let y = LWorldInertia::of_body(&b.inertia, &omi);
+    let h = y.mul(&vi);
+    bufs.velocity[i] = vi;
+    let bias = vp.cross_motion(&vj);
+    let force = vi.cross_force(&h);
+    bufs.momentum[i] = h.linear;
+    bufs.variation[i] = variation_block(&y, &vi, &h);
+    bufs.composite[i] = y;
+    (bias, force)
+}
+
+/// The forward sweep's rest for body `i` (`b`) with parent acceleration `ap` and acceleration
+/// `ai` (gravity included), as `forward_acceleration`: the columns `∂a/∂q`, the acceleration,
+/// and the body's force (`force`, its bias force, plus `Y·ai`).
+#[inline(always)]
+pub(crate) fn acceleration_body<const L: usize>(
+    bufs: &mut RneaDerivativesLanes<L>,
+    b: &Body,
+    i: usize,
+    ap: LMotion<L>,
+    ai: LMotion<L>,
+    force: LForce<L>,
 ) {
-    let nv = data.nv;
+    let vp = if b.parent == 0 {
+        LMotion::ZERO
+    } else {
+        bufs.velocity[b.parent]
+    };
+    for d in b.idx_v..b.idx_v + b.nv {
+        bufs.da_dq[d] = ap.cross_motion(&bufs.s[d]) + vp.cross_motion(&bufs.dv_dq[d]);
+    }
+    bufs.acceleration[i] = ai;
+    bufs.force[i] = force + bufs.composite[i].mul(&ai);
+}
+
+/// The backward sweep of one block (as `backward::<true>` without external forces and without
+/// the finiteness bound): `τ` into `bufs`, and the three matrices' entries that can be nonzero
+/// into `sink`.
+#[inline(always)]
+pub(crate) fn backward<const L: usize>(
+    bufs: &mut RneaDerivativesLanes<L>,
+    model: &Model,
+    data: &DerivativesData,
+    sink: &mut impl Sink<L>,
+) {
     let bodies = model.bodies();
     for i in (1..bodies.len()).rev() {
         let b = &bodies[i];
@@ -375,13 +449,11 @@ fn backward<const L: usize>(
         // Rows of this joint, columns of its subtree (itself included).
         for r in r0..r1 {
             let s = bufs.s[r];
-            let row = r * nv;
             for c in r0..c1 {
-                bufs.dq[row + c] = s.dot(&bufs.df_dq[c]);
-            }
-            for c in r0..c1 {
-                bufs.dv[row + c] = s.dot(&bufs.df_dv[c]);
-                bufs.da[row + c] = s.dot(&bufs.df_da[c]);
+                let dq = s.dot(&bufs.df_dq[c]);
+                let dv = s.dot(&bufs.df_dv[c]);
+                let da = s.dot(&bufs.df_da[c]);
+                sink.put(r, c, dq, dv, da);
             }
         }
         for d in r0..r1 {
@@ -400,13 +472,12 @@ fn backward<const L: usize>(
                 let ys = bufs.df_da[r];
                 // `Bᵀ·s` has no linear part: its products are left out of the dots below.
                 let bs = variation_transpose(&pm, &dm, &s);
-                let row = r * nv;
                 for &j in ancestors {
                     let sj = &bufs.s[j];
-                    bufs.dq[row + j] =
-                        bufs.da_dq[j].dot(&ys) + bufs.dv_dq[j].angular.dot(&bs.angular);
-                    bufs.dv[row + j] = bufs.da_dv[j].dot(&ys) + sj.angular.dot(&bs.angular);
-                    bufs.da[row + j] = sj.dot(&ys);
+                    let dq = bufs.da_dq[j].dot(&ys) + bufs.dv_dq[j].angular.dot(&bs.angular);
+                    let dv = bufs.da_dv[j].dot(&ys) + sj.angular.dot(&bs.angular);
+                    let da = sj.dot(&ys);
+                    sink.put(r, j, dq, dv, da);
                 }
             }
         }
@@ -423,7 +494,7 @@ fn backward<const L: usize>(
 }
 
 /// The inverse-dynamics derivatives of the block of states `idx` of `(q, v, a)` (inputs
-/// checked by the caller) into the lane buffers `tau`, `dq`, `dv` and `da`.
+/// checked by the caller): `τ` into the lane buffer `tau`, the matrices into `sink`.
 #[inline(always)]
 #[allow(
     clippy::too_many_arguments,
@@ -437,7 +508,8 @@ pub(crate) fn rnea_derivatives<const L: usize>(
     v: &[f64],
     a: &[f64],
     idx: &[usize; L],
+    sink: &mut impl Sink<L>,
 ) {
     forward(bufs, model, data, q, v, a, idx);
-    backward(bufs, model, data);
+    backward(bufs, model, data, sink);
 }

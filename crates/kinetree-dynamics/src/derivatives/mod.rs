@@ -39,7 +39,7 @@
 mod aba;
 mod data;
 mod rnea;
-mod solve;
+pub(crate) mod solve;
 
 pub use aba::{aba_derivatives, aba_derivatives_with_external_forces};
 pub use data::{AbaDerivatives, DerivativesData, RneaDerivatives};

@@ -177,19 +177,50 @@ impl DofTree {
         }
     }
 
+    /// The number of columns of each half of a pair row (`nv` rounded up to a multiple of 4).
+    #[inline(always)]
+    pub(crate) fn padded(&self) -> usize {
+        self.np
+    }
+
     /// `out_q ← -M⁻¹·x_q` and `out_v ← -M⁻¹·x_v` for row-major `nv x nv` matrices whose row `i`
     /// is zero outside the ancestors and subtree of `i` (as the inverse-dynamics derivatives),
     /// from the factor `h`.
-    ///
-    /// Two triangular solves on the pair `[x_q x_v]`: `Lᵀ·Y = x` from the leaves up, which keeps
-    /// the sparsity of `x` (row `i` only touches its ancestors' rows, on its own nonzero
-    /// columns), then `L·out = -D⁻¹·Y` from the root down, on whole rows.
     #[inline(always)]
     pub(crate) fn neg_solve_pair(
         &mut self,
         h: &[f64],
         x_q: &[f64],
         x_v: &[f64],
+        out_q: &mut [f64],
+        out_v: &mut [f64],
+    ) {
+        let (nv, np) = (self.nv, self.np);
+        let mut pair = core::mem::take(&mut self.pair);
+        for ((row, q), v) in pair
+            .chunks_exact_mut(2 * np)
+            .zip(x_q.chunks_exact(nv))
+            .zip(x_v.chunks_exact(nv))
+        {
+            row[..nv].copy_from_slice(q);
+            row[np..np + nv].copy_from_slice(v);
+        }
+        self.neg_solve_filled(h, &mut pair, out_q, out_v);
+        self.pair = pair;
+    }
+
+    /// As [`neg_solve_pair`](Self::neg_solve_pair), with the pair `[x_q x_v]` already in `pair`
+    /// (`nv` rows of `2·np` columns: `x_q` in columns `0..nv`, `x_v` in `np..np + nv`, zero
+    /// elsewhere), which the solve overwrites.
+    ///
+    /// Two triangular solves on the pair: `Lᵀ·Y = x` from the leaves up, which keeps the
+    /// sparsity of `x` (row `i` only touches its ancestors' rows, on its own nonzero columns),
+    /// then `L·out = -D⁻¹·Y` from the root down, on whole rows.
+    #[inline(always)]
+    pub(crate) fn neg_solve_filled(
+        &mut self,
+        h: &[f64],
+        pair: &mut [f64],
         out_q: &mut [f64],
         out_v: &mut [f64],
     ) {
@@ -201,17 +232,8 @@ impl DofTree {
             seg,
             seg_start,
             l,
-            pair,
             ..
         } = self;
-        for ((row, q), v) in pair
-            .chunks_exact_mut(w)
-            .zip(x_q.chunks_exact(nv))
-            .zip(x_v.chunks_exact(nv))
-        {
-            row[..nv].copy_from_slice(q);
-            row[np..np + nv].copy_from_slice(v);
-        }
         for i in (1..nv).rev() {
             let (anc, l) = Self::row(anc, anc_start, l, h, nv, i);
             if anc.is_empty() {

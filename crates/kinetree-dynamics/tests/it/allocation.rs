@@ -174,8 +174,10 @@ fn batched_algorithms_do_not_allocate() {
 }
 
 #[test]
-fn batched_rnea_derivatives_do_not_allocate() {
-    use kinetree_dynamics::batch::{DerivativesBatch, rnea_derivatives_batch};
+fn batched_derivatives_do_not_allocate() {
+    use kinetree_dynamics::batch::{
+        DerivativesBatch, aba_derivatives_batch, rnea_derivatives_batch,
+    };
     for (name, model) in all_models() {
         let n = 11;
         let nn = model.nv() * model.nv();
@@ -189,13 +191,21 @@ fn batched_rnea_derivatives_do_not_allocate() {
         }
         let mut batch = DerivativesBatch::new(&model);
         let (mut dq, mut dv, mut da) = (vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]);
+        let (mut ddq, mut ddv, mut minv) =
+            (vec![0.0; n * nn], vec![0.0; n * nn], vec![0.0; n * nn]);
         let count = allocations_during(|| {
             for _ in 0..2 {
                 rnea_derivatives_batch(&model, &mut batch, &q, &v, &a, &mut dq, &mut dv, &mut da)
                     .unwrap();
+                // `a` serves as the torques.
+                aba_derivatives_batch(
+                    &model, &mut batch, &q, &v, &a, &mut ddq, &mut ddv, &mut minv,
+                )
+                .unwrap();
             }
         });
         assert_eq!(count, 0, "{name}: the batched derivatives allocated");
         assert!(da.iter().any(|&x| x != 0.0), "{name}: nothing computed");
+        assert!(minv.iter().any(|&x| x != 0.0), "{name}: nothing computed");
     }
 }

@@ -2,6 +2,7 @@
 
 mod allocation;
 mod batch;
+mod batch_aba_derivatives;
 mod batch_derivatives;
 mod common;
 mod derivatives;

@@ -1,0 +1,314 @@
+//! The lane kernel of the batched forward-dynamics derivatives: the one-state sweeps of
+//! `derivatives/aba.rs` (without external forces) over a block of `L` states at a time, every
+//! operation in the one-state order, then each state's tree-sparse solves (the one-state code:
+//! they already run on whole rows in SIMD).
+
+use super::rnea_derivatives::{
+    LWorldInertia, RneaDerivativesLanes, Sink, acceleration_body, backward, mat_add, mat_sub, skew,
+    velocity_body,
+};
+use crate::data::sign;
+use crate::derivatives::DerivativesData;
+use crate::derivatives::solve::DofTree;
+use crate::factor::PIVOT_TOLERANCE;
+use kinetree_kinematics::batch::gather;
+use kinetree_kinematics::model::Model;
+use kinetree_kinematics::spatial::Motion;
+use kinetree_kinematics::spatial::glam::DVec3;
+use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LVec3, Lanes};
+
+/// A symmetric 6x6 inertia in world coordinates in lanes, in 3x3 blocks `[[a, b], [bᵀ, c]]`
+/// (the lane form of `derivatives::data::Articulated`, its arithmetic in the same order).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LArticulated<const L: usize> {
+    a: LMat3<L>,
+    b: LMat3<L>,
+    c: LMat3<L>,
+}
+
+/// The outer product `p·qᵀ` (as `DMat3::from_cols(p * q.x, p * q.y, p * q.z)`).
+#[inline(always)]
+fn outer<const L: usize>(p: &LVec3<L>, q: &LVec3<L>) -> LMat3<L> {
+    LMat3 {
+        x_axis: p.scale(q.x),
+        y_axis: p.scale(q.y),
+        z_axis: p.scale(q.z),
+    }
+}
+
+impl<const L: usize> LArticulated<L> {
+    /// `self += y` for a rigid inertia `y` (as `Articulated::add_rigid`, the diagonal matrix's
+    /// zeros added too).
+    #[inline(always)]
+    fn add_rigid(&mut self, y: &LWorldInertia<L>) {
+        let z = 0.0;
+        let m = y.m;
+        let diagonal = |x: f64, y: f64, zz: f64| LVec3 {
+            x: Lanes::splat(x),
+            y: Lanes::splat(y),
+            z: Lanes::splat(zz),
+        };
+        self.a = mat_add(
+            &self.a,
+            &LMat3 {
+                x_axis: diagonal(m, z, z),
+                y_axis: diagonal(z, m, z),
+                z_axis: diagonal(z, z, m),
+            },
+        );
+        self.b = mat_sub(&self.b, &skew(&y.h));
+        self.c = mat_add(&self.c, &y.i);
+    }
+
+    /// The momentum `self·s` (as `Articulated::mul`).
+    #[inline(always)]
+    fn mul(&self, s: &LMotion<L>) -> LForce<L> {
+        let (v, w) = (&s.linear, &s.angular);
+        LForce {
+            linear: self.a.mul_vec(v) + self.b.mul_vec(w),
+            angular: self.b.transpose_mul_vec(v) + self.c.mul_vec(w),
+        }
+    }
+
+    /// `self -= x·yᵀ` (as `Articulated::sub_outer`).
+    #[inline(always)]
+    fn sub_outer(&mut self, x: &LForce<L>, y: &LForce<L>) {
+        self.a = mat_sub(&self.a, &outer(&x.linear, &y.linear));
+        self.b = mat_sub(&self.b, &outer(&x.linear, &y.angular));
+        self.c = mat_sub(&self.c, &outer(&x.angular, &y.angular));
+    }
+
+    #[inline(always)]
+    fn add_assign(&mut self, o: &Self) {
+        self.a = mat_add(&self.a, &o.a);
+        self.b = mat_add(&self.b, &o.b);
+        self.c = mat_add(&self.c, &o.c);
+    }
+
+    /// The traces of the diagonal blocks (as `Articulated::scale`).
+    #[inline(always)]
+    fn scale(&self) -> Lanes<L> {
+        let (a, c) = (&self.a, &self.c);
+        (a.x_axis.x + a.y_axis.y + a.z_axis.z).map(f64::abs)
+            + (c.x_axis.x + c.y_axis.y + c.z_axis.z).map(f64::abs)
+    }
+}
+
+/// The lane buffers of the forward-dynamics derivatives for one lane width (beside the
+/// inverse-dynamics ones), and each lane's factor and pair for the solves.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct AbaDerivativesLanes<const L: usize> {
+    bias: Vec<LMotion<L>>,
+    articulated: Vec<LArticulated<L>>,
+    articulated_force: Vec<LForce<L>>,
+    u_column: Vec<LForce<L>>,
+    pivot_inverse: Vec<Lanes<L>>,
+    u: Vec<Lanes<L>>,
+    pub(crate) ddq: Vec<Lanes<L>>,
+    /// Per lane, the factor `M = Lᵀ·D·L` as `nv x nv` (only the diagonal and each row's
+    /// ancestors are written and read).
+    factor: Vec<f64>,
+    /// Per lane, the pair `[∂τ/∂q ∂τ/∂v]` (`nv` rows of `2·np`, see `DofTree`).
+    pair: Vec<f64>,
+    /// The solves' structure and scratch.
+    tree: Option<DofTree>,
+}
+
+impl<const L: usize> AbaDerivativesLanes<L> {
+    pub(crate) fn new(model: &Model, data: &DerivativesData) -> Self {
+        let (nb, nv) = (model.nbodies(), model.nv());
+        let tree = data.tree.clone();
+        let w = 2 * tree.padded();
+        let x = |n| vec![Lanes::ZERO; n];
+        Self {
+            bias: vec![LMotion::ZERO; nb],
+            articulated: vec![LArticulated::default(); nb],
+            articulated_force: vec![LForce::ZERO; nb],
+            u_column: vec![LForce::ZERO; nv],
+            pivot_inverse: x(nv),
+            u: x(nv),
+            ddq: x(nv),
+            factor: vec![0.0; L * nv * nv],
+            pair: vec![0.0; L * nv * w],
+            tree: Some(tree),
+        }
+    }
+}
+
+/// A [`Sink`] putting `∂τ/∂q` and `∂τ/∂v` into each lane's pair (`∂τ/∂a` is not needed).
+struct PairSink<'a> {
+    pair: &'a mut [f64],
+    /// One lane's pair (`nv · w`), and a pair row (`w = 2·np`).
+    lane: usize,
+    w: usize,
+    np: usize,
+}
+
+impl<const L: usize> Sink<L> for PairSink<'_> {
+    #[inline(always)]
+    fn put(&mut self, r: usize, c: usize, dq: Lanes<L>, dv: Lanes<L>, _: Lanes<L>) {
+        let at = r * self.w + c;
+        for l in 0..L {
+            let o = l * self.lane + at;
+            self.pair[o] = dq.0[l];
+            self.pair[o + self.np] = dv.0[l];
+        }
+    }
+}
+
+/// The articulated-body pass of one block (as `derivatives::aba::articulated`): the pivots and
+/// `L`'s entries into each lane's factor, `U`, `1/D` and `u` into the buffers. A lane whose
+/// pivot vanishes is marked in the returned mask (its inverse pivot is zero, as one state).
+#[inline(always)]
+fn articulated<const L: usize>(
+    bufs: &mut AbaDerivativesLanes<L>,
+    rnea: &RneaDerivativesLanes<L>,
+    model: &Model,
+    data: &DerivativesData,
+    v: &[f64],
+    tau: &[f64],
+    idx: &[usize; L],
+) -> [bool; L] {
+    let nv = model.nv();
+    let nn = nv * nv;
+    let bodies = model.bodies();
+    let dynamics = &data.dynamics;
+    let tree = &data.tree;
+    let mut singular = [false; L];
+    bufs.articulated.fill(LArticulated::default());
+    bufs.articulated_force.fill(LForce::ZERO);
+    for i in (1..bodies.len()).rev() {
+        let b = &bodies[i];
+        let mut ia = bufs.articulated[i];
+        ia.add_rigid(&rnea.composite[i]);
+        let mut pa = bufs.articulated_force[i] + rnea.force[i];
+        for d in (b.idx_v..b.idx_v + b.nv).rev() {
+            let s = rnea.s[d];
+            let u_col = ia.mul(&s);
+            let mut pivot = s.dot(&u_col);
+            let mut u = gather(tau, nv, d, idx) - s.dot(&pa);
+            if dynamics.has_joint_terms {
+                let vd = gather(v, nv, d, idx);
+                pivot = pivot + dynamics.armature[d];
+                u -= vd * dynamics.damping[d] + vd.map(sign) * dynamics.friction[d];
+            }
+            let bound = ia.scale() * PIVOT_TOLERANCE;
+            let mut inverse = Lanes::ZERO;
+            for l in 0..L {
+                if pivot.0[l] > bound.0[l] {
+                    inverse.0[l] = 1.0 / pivot.0[l];
+                } else {
+                    singular[l] = true;
+                }
+            }
+            for l in 0..L {
+                bufs.factor[l * nn + d * nv + d] = pivot.0[l];
+            }
+            for &j in tree.ancestors(d) {
+                let x = rnea.s[j].dot(&u_col) * inverse;
+                for l in 0..L {
+                    bufs.factor[l * nn + d * nv + j] = x.0[l];
+                }
+            }
+            bufs.u_column[d] = u_col;
+            bufs.pivot_inverse[d] = inverse;
+            bufs.u[d] = u;
+            ia.sub_outer(&u_col, &u_col.scale(inverse));
+            pa += u_col.scale(inverse * u);
+        }
+        let p = b.parent;
+        if p != 0 {
+            pa += ia.mul(&bufs.bias[i]);
+            bufs.articulated[p].add_assign(&ia);
+            bufs.articulated_force[p] += pa;
+        }
+    }
+    singular
+}
+
+/// The forward-dynamics derivatives of the block of states `idx` of `(q, v, tau)` (inputs
+/// checked by the caller): `q̈` into `bufs.ddq`, and for lane `l < count` the matrices of state
+/// `idx[l]` into `dq`, `dv` and `dtau` (stacked `nv x nv`). The lanes whose pivot vanished are
+/// marked in the returned mask (their matrices are not to be trusted).
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the batch's inputs and outputs, passed through"
+)]
+pub(crate) fn aba_derivatives<const L: usize>(
+    rnea: &mut RneaDerivativesLanes<L>,
+    bufs: &mut AbaDerivativesLanes<L>,
+    model: &Model,
+    data: &DerivativesData,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    idx: &[usize; L],
+    count: usize,
+    out: [&mut [f64]; 3],
+) -> [bool; L] {
+    let nv = model.nv();
+    let nn = nv * nv;
+    let bodies = model.bodies();
+    for i in 1..bodies.len() {
+        let (bias, force) = velocity_body(rnea, model, data, q, v, idx, i);
+        bufs.bias[i] = bias;
+        rnea.force[i] = force;
+    }
+    let singular = articulated(bufs, rnea, model, data, v, tau, idx);
+    // Forward: q̈, and with it the accelerations and forces of the derivatives.
+    let a0 = LMotion::splat(&Motion::new(-model.gravity(), DVec3::ZERO));
+    for i in 1..bodies.len() {
+        let b = &bodies[i];
+        let ap = if b.parent == 0 {
+            a0
+        } else {
+            rnea.acceleration[b.parent]
+        };
+        let mut ai = ap + bufs.bias[i];
+        for d in b.idx_v..b.idx_v + b.nv {
+            let qdd = bufs.pivot_inverse[d] * (bufs.u[d] - ai.dot(&bufs.u_column[d]));
+            bufs.ddq[d] = qdd;
+            ai += rnea.s[d].scale(qdd);
+        }
+        let force = rnea.force[i];
+        acceleration_body(rnea, b, i, ap, ai, force);
+    }
+    let Some(tree) = bufs.tree.as_mut() else {
+        return singular;
+    };
+    let np = tree.padded();
+    let w = 2 * np;
+    let pair = &mut bufs.pair;
+    // The entries the sweep does not write are zero (the last block's solves overwrote them).
+    pair.fill(0.0);
+    let mut sink = PairSink {
+        pair: &mut pair[..],
+        lane: nv * w,
+        w,
+        np,
+    };
+    backward(rnea, model, data, &mut sink);
+    let dynamics = &data.dynamics;
+    if dynamics.has_joint_terms {
+        // As `backward::<true>`: the damping on the diagonal of `∂τ/∂v`.
+        for lane in pair.chunks_exact_mut(nv * w) {
+            for (k, damping) in dynamics.damping.iter().enumerate() {
+                lane[k * w + np + k] += damping;
+            }
+        }
+    }
+    let [dq, dv, dtau] = out;
+    for (l, &k) in idx.iter().enumerate().take(count) {
+        let h = &bufs.factor[l * nn..(l + 1) * nn];
+        let m = k * nn..(k + 1) * nn;
+        tree.invert(h, &mut dtau[m.clone()]);
+        tree.neg_solve_filled(
+            h,
+            &mut pair[l * nv * w..(l + 1) * nv * w],
+            &mut dq[m.clone()],
+            &mut dv[m],
+        );
+    }
+    singular
+}
