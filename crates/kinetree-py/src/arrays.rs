@@ -103,7 +103,7 @@ pub(crate) fn states(
             (Values::Owned(values), count)
         }
     };
-    if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+    if let Some(k) = first_non_finite(&values) {
         let at = if count.is_some() && width > 0 {
             format!("[{}, {}]", k / width, k % width)
         } else {
@@ -120,6 +120,18 @@ pub(crate) fn states(
         count,
         name,
     })
+}
+
+/// The index of the first number of `values` that is not finite. The usual all-finite case is
+/// a branch-free pass that the compiler vectorises (it runs with the GIL held, on one thread,
+/// over stacks of 10 000 states: a search with a branch per number took about 8 ns per panda
+/// state of a batched RNEA, this pass about 4); only a failure searches for the index.
+fn first_non_finite(values: &[f64]) -> Option<usize> {
+    if values.iter().fold(true, |ok, x| ok & x.is_finite()) {
+        None
+    } else {
+        values.iter().position(|x| !x.is_finite())
+    }
 }
 
 /// Inputs of at most this many numbers are copied, without a check that the copy fits in memory;

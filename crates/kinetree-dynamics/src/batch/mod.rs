@@ -42,7 +42,7 @@ mod rnea;
 mod rnea_derivatives;
 
 use crate::data::{DynamicsData, JointTerms};
-use crate::error::{DynamicsError, check_vector};
+use crate::error::{DynamicsError, check_vector, first_non_finite};
 use crate::rnea::check_inputs;
 use aba::AbaLanes;
 use crba::CrbaLanes;
@@ -168,6 +168,18 @@ fn states(
     Ok(n)
 }
 
+/// Whether every state of the buffers `inputs` (their lengths already checked against the
+/// model and each other) passes the one-state input checks, decided in one branch-free pass
+/// over each buffer that the compiler vectorises: true when every number is finite and the model
+/// has no quaternions (whose norms only the per-state checks test). False says nothing: the
+/// per-state checks then find the first bad state, or none.
+fn states_pass(model: &Model, inputs: &[&[f64]]) -> bool {
+    model.quaternion_blocks().is_empty()
+        && inputs
+            .iter()
+            .all(|x| x.iter().fold(true, |ok, v| ok & v.is_finite()))
+}
+
 /// Checks every one of the `n` states `(q, v, a)` as [`rnea`](crate::rnea) does (the buffers'
 /// lengths already checked); an error names the first bad state by its index.
 fn check_rnea_states(
@@ -178,6 +190,9 @@ fn check_rnea_states(
     v: &[f64],
     a: &[f64],
 ) -> Result<(), DynamicsError> {
+    if states_pass(model, &[q, v, a]) {
+        return Ok(());
+    }
     let (nq, nv) = (model.nq(), model.nv());
     for k in 0..n {
         let r = k * nv..(k + 1) * nv;
@@ -203,6 +218,9 @@ fn check_aba_states(
     v: &[f64],
     tau: &[f64],
 ) -> Result<(), DynamicsError> {
+    if states_pass(model, &[q, v, tau]) {
+        return Ok(());
+    }
     let (nq, nv) = (model.nq(), model.nv());
     for k in 0..n {
         let r = k * nv..(k + 1) * nv;
@@ -248,7 +266,7 @@ pub fn rnea_batch(
         (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, v: &[f64] = v,
          a: &[f64] = a, n: usize = n, tau: &mut [f64] = tau) -> ()
     );
-    if let Some(i) = tau.iter().position(|x| !x.is_finite()) {
+    if let Some(i) = first_non_finite(tau) {
         // The one-state function names the joint that overflowed.
         let (k, r) = (i / nv, (i / nv) * nv..(i / nv + 1) * nv);
         crate::rnea(
@@ -311,7 +329,7 @@ pub fn aba_batch(
     // A vanished pivot or an overflow leaves a state's accelerations NaN: the one-state
     // function names the joints.
     let mut from = 0;
-    while let Some(i) = ddq[from..].iter().position(|x| !x.is_finite()) {
+    while let Some(i) = first_non_finite(&ddq[from..]) {
         let k = (from + i) / nv;
         let r = k * nv..(k + 1) * nv;
         let out = crate::aba(
@@ -363,9 +381,11 @@ pub fn crba_batch(
     let nn = nv * nv;
     let n = states(model, q.len(), "mass matrix", mass_matrix.len(), nn)?;
     check_buffer("mass matrix", mass_matrix.len(), n, nn)?;
-    for k in 0..n {
-        check_inputs(model, &batch.data, &q[k * nq..(k + 1) * nq], None, None)
-            .map_err(in_state(k))?;
+    if !states_pass(model, &[q]) {
+        for k in 0..n {
+            check_inputs(model, &batch.data, &q[k * nq..(k + 1) * nq], None, None)
+                .map_err(in_state(k))?;
+        }
     }
     let data = &batch.data;
     let finite = kinetree_kinematics::simd_dispatch!(
