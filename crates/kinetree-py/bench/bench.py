@@ -25,10 +25,20 @@ pair: kinetree's ``link_placements(q, buffer)`` beside ``framesForwardKinematics
 writing into memory made once (Pinocchio's poses then stay in its ``Data``) and both given their
 arguments positionally (as a keyword, ``out=buffer`` costs the abi3 build a dict: about 0.1 µs more).
 Pinocchio's loops give each state its own ``v`` and ``a`` (or ``tau``), as the batched calls do.
-kinetree's batched frame Jacobian, RNEA, CRBA and ABA (and FK in the buffer row) write into
-stacked arrays made once, as a sampling loop or a dataset writer reuses its buffers, and as
-Pinocchio's loop reuses its ``Data``: a fresh ``(N, nv, nv)`` result would add the kernel's zeroing
-of its pages on first touch (``--fresh`` times that variant instead).
+kinetree's batched frame Jacobian, RNEA, CRBA, ABA and derivatives (and FK in the buffer row)
+write into stacked arrays made once, as a sampling loop or a dataset writer reuses its buffers,
+and as Pinocchio's loop reuses its ``Data``: a fresh ``(N, nv, nv)`` result would add the kernel's
+zeroing of its pages on first touch (``--fresh`` times that variant instead).
+
+The column "write floor" is what the batched results' bytes alone cost on this machine: numpy
+filling arrays of the same shapes as the batched call's results (the same arrays when they are
+buffers made once; new arrays each time with ``--fresh`` and in the "FK (all links)" row, which
+returns new arrays), on one thread and on every core (``ndarray.fill`` releases the GIL), the
+faster of the two, per state. No batched call can be faster than that; the column "bound" is
+Pinocchio's loop divided by it, the largest speed-up the machine's memory allows. Where the
+bound is below 20, so is the call, whatever its arithmetic (CRBA and the derivatives of a large
+robot write ``nv x nv`` numbers per state: talos_reduced's 38 x 38 are 11.5 KB, 115 MB for
+N = 10 000, far beyond the caches).
 
 Pinocchio has no IK solver: its row is the closed-loop damped least-squares loop of Pinocchio's
 documentation (``log6`` error, ``computeFrameJacobian``, ``integrate``) run to the same
@@ -41,6 +51,7 @@ import argparse
 import os
 import pathlib
 import site
+import threading
 import time
 
 import numpy as np
@@ -81,6 +92,34 @@ def interleaved(fa, fb, rounds=3, **kw):
         if fb is not None:
             tb.append(best(fb, **kw))
     return min(ta), (min(tb) if tb else None)
+
+
+def write_floor(arrays, rounds=3):
+    """Best time (s) to write the bytes of `arrays` (ndarrays, filled in place, or shapes, made
+    new each time) with numpy, on one thread or split over every core, whichever is faster."""
+    threads = os.cpu_count() or 1
+
+    def fill(a, parts):
+        if parts == 1:
+            a.fill(0.0)
+            return
+        # ndarray.fill releases the GIL: the threads write their slices at once.
+        chunks = np.array_split(np.arange(len(a)), parts)
+        workers = [threading.Thread(target=a[c[0]:c[-1] + 1].fill, args=(0.0,)) for c in chunks if len(c)]
+        for w in workers:
+            w.start()
+        for w in workers:
+            w.join()
+
+    def writer(parts):
+        def run():
+            for a in arrays:
+                fill(np.empty(a) if isinstance(a, tuple) else a, parts)
+        return run
+
+    one, every = interleaved(writer(1), writer(threads) if threads > 1 else None,
+                             rounds=rounds, repeat=3, number=1)
+    return min(one, every) if every is not None else one
 
 
 def pin_clik(pin, model, data, frame_id, goal, q0, tol=1e-6, iters=1000, damp=1e-12, dt=1.0):
@@ -155,8 +194,22 @@ def main():
         buffer = np.empty((len(m.link_names), 4, 4))
         buffers = np.empty((N, len(m.link_names), 4, 4))
         # Stacked outputs made once (None with --fresh: each batched call returns new arrays).
+        nl, nv = len(m.link_names), m.nv
         jacobians, torques, masses = ((None, None, None) if args.fresh else
-                                      (np.empty((N, 6, m.nv)), np.empty((N, m.nv)), np.empty((N, m.nv, m.nv))))
+                                      (np.empty((N, 6, nv)), np.empty((N, nv)), np.empty((N, nv, nv))))
+        parts = None if args.fresh else tuple(np.empty((nd, nv, nv)) for _ in range(3))
+        # The arrays each batched call writes, for its write floor: the buffers themselves, or
+        # the shapes of the new arrays it returns.
+        written = {
+            "FK (all links)": [(N, nl, 4, 4)],
+            "FK (all links), into a buffer": [buffers],
+            "frame Jacobian": [jacobians if jacobians is not None else (N, 6, nv)],
+            "RNEA": [torques if torques is not None else (N, nv)],
+            "CRBA": [masses if masses is not None else (N, nv, nv)],
+            "ABA": [torques if torques is not None else (N, nv)],
+            "RNEA derivatives": list(parts) if parts is not None else [(nd, nv, nv)] * 3,
+            "ABA derivatives": list(parts) if parts is not None else [(nd, nv, nv)] * 3,
+        }
         calls = {
             "FK (all links)": (lambda: m.link_placements(q), lambda: m.link_placements(Q),
                                (lambda: pin_poses(pq)) if pin else None,
@@ -177,10 +230,10 @@ def main():
             "ABA": (lambda: m.aba(q, v, a), lambda: m.aba(Q, V, A, out=torques),
                     (lambda: pin.aba(pm, pd, pq, pv, pa)) if pin else None,
                     (lambda: [pin.aba(pm, pd, x, y, z) for x, y, z in zip(PQ, PV, PA)]) if pin else None),
-            "RNEA derivatives": (lambda: m.rnea_derivatives(q, v, a), lambda: m.rnea_derivatives(Qd, Vd, Ad),
+            "RNEA derivatives": (lambda: m.rnea_derivatives(q, v, a), lambda: m.rnea_derivatives(Qd, Vd, Ad, out=parts),
                                  (lambda: pin.computeRNEADerivatives(pm, pd, pq, pv, pa)) if pin else None,
                                  (lambda: [pin.computeRNEADerivatives(pm, pd, x, y, z) for x, y, z in zip(PQd, PVd, PAd)]) if pin else None),
-            "ABA derivatives": (lambda: m.aba_derivatives(q, v, a), lambda: m.aba_derivatives(Qd, Vd, Ad),
+            "ABA derivatives": (lambda: m.aba_derivatives(q, v, a), lambda: m.aba_derivatives(Qd, Vd, Ad, out=parts),
                                 (lambda: pin.computeABADerivatives(pm, pd, pq, pv, pa)) if pin else None,
                                 (lambda: [pin.computeABADerivatives(pm, pd, x, y, z) for x, y, z in zip(PQd, PVd, PAd)]) if pin else None),
         }
@@ -191,8 +244,10 @@ def main():
             n = N_DERIVATIVES if "derivatives" in name else N
             t1, p1 = interleaved(one, pone, rounds=args.rounds)
             tb, pb = interleaved(batch, pbatch, rounds=args.rounds, repeat=3, number=1)
-            rows.append((robot, name, t1, p1, tb / n, (pb / n) if pb else None))
-            print(rows[-1][0], rows[-1][1], fmt(t1), fmt(p1), fmt(tb / n), fmt(pb / n if pb else None), flush=True)
+            floor = write_floor(written[name], rounds=args.rounds)
+            rows.append((robot, name, t1, p1, tb / n, (pb / n) if pb else None, floor / n))
+            print(rows[-1][0], rows[-1][1], fmt(t1), fmt(p1), fmt(tb / n), fmt(pb / n if pb else None),
+                  "floor", fmt(floor / n), flush=True)
 
         if wanted and not any("IK".startswith(w) for w in wanted):
             continue
@@ -211,7 +266,7 @@ def main():
                 pgoals.append(pd.oMf[fid].copy())
             q0 = pin.neutral(pm)
             p_ik = best(lambda: [pin_clik(pin, pm, pd, fid, g, q0) for g in pgoals], repeat=2, number=1) / len(pgoals)
-        rows.append((robot, f"IK solve ({ok}/{len(goals)} converged)", t_ik, p_ik, t_ikb, None))
+        rows.append((robot, f"IK solve ({ok}/{len(goals)} converged)", t_ik, p_ik, t_ikb, None, None))
         print(rows[-1][0], rows[-1][1], fmt(t_ik), fmt(p_ik), fmt(t_ikb), flush=True)
 
     print()
@@ -230,17 +285,21 @@ def us(t):
 
 
 def markdown(rows, with_pin):
-    """The rows as a markdown table: one call beside Pinocchio (ratio ≤ 1 meets the target), and
-    batched per state beside Pinocchio in a Python loop (speed-up ≥ 20× meets the target)."""
+    """The rows as a markdown table: one call beside Pinocchio (ratio ≤ 1 meets the target),
+    batched per state beside Pinocchio in a Python loop (speed-up ≥ 20× meets the target), and
+    the write floor of the batched results with the speed-up it bounds."""
     lines = [
         "| robot | call | kinetree, one call | Pinocchio, one call | ratio | "
-        "kinetree batched, per state | Pinocchio loop, per state | speed-up |",
-        "|---|---|---:|---:|---:|---:|---:|---:|",
+        "kinetree batched, per state | Pinocchio loop, per state | speed-up | "
+        "write floor, per state | bound |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
-    for robot, name, t1, p1, tb, pb in rows:
+    for robot, name, t1, p1, tb, pb, floor in rows:
         ratio = f"{t1 / p1:.2f}" if with_pin and p1 else "—"
         up = f"{pb / tb:.1f}×" if with_pin and pb else "—"
-        lines.append(f"| {robot} | {name} | {us(t1)} | {us(p1)} | {ratio} | {us(tb)} | {us(pb)} | {up} |")
+        bound = f"{pb / floor:.0f}×" if with_pin and pb and floor else "—"
+        lines.append(f"| {robot} | {name} | {us(t1)} | {us(p1)} | {ratio} | {us(tb)} | {us(pb)} | {up} "
+                     f"| {us(floor)} | {bound} |")
     return "\n".join(lines)
 
 
