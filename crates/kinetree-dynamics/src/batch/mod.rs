@@ -174,10 +174,7 @@ fn states(
 /// has no quaternions (whose norms only the per-state checks test). False says nothing: the
 /// per-state checks then find the first bad state, or none.
 fn states_pass(model: &Model, inputs: &[&[f64]]) -> bool {
-    model.quaternion_blocks().is_empty()
-        && inputs
-            .iter()
-            .all(|x| x.iter().fold(true, |ok, v| ok & v.is_finite()))
+    model.quaternion_blocks().is_empty() && inputs.iter().all(|x| first_non_finite(x).is_none())
 }
 
 /// Checks every one of the `n` states `(q, v, a)` as [`rnea`](crate::rnea) does (the buffers'
