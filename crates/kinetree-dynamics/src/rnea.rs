@@ -347,7 +347,7 @@ fn sweep_kernel<const VEL: bool, const ACC: bool>(
 /// about that axis only: the placement does not rotate, or rotates about the same axis (then
 /// the placed rotation's `k` column and row are exactly `e_k`, see [`AxisTurn`]).
 #[inline(always)]
-fn turns_about(placement: &RotationForm, k: usize) -> bool {
+pub(crate) fn turns_about(placement: &RotationForm, k: usize) -> bool {
     match placement {
         RotationForm::Identity => true,
         RotationForm::Axis { k: j, .. } => *j == k,

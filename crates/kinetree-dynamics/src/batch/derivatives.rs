@@ -154,7 +154,7 @@ pub fn rnea_derivatives_batch(
     check_buffer("dtau_dq", dtau_dq.len(), n, nn)?;
     check_buffer("dtau_dv", dtau_dv.len(), n, nn)?;
     check_buffer("dtau_da", dtau_da.len(), n, nn)?;
-    check_rnea_states(model, &batch.data.dynamics, n, q, v, a)?;
+    check_rnea_states(model, &batch.data.dynamics, (0, n), q, v, a)?;
     let data = &batch.data;
     let first_bad = kinetree_kinematics::simd_dispatch!(
         batch.simd, DerivativesLanes, &mut batch.lanes4, &mut batch.lanes8, kernel,

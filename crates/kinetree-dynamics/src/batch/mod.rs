@@ -46,7 +46,7 @@ use crate::error::{DynamicsError, check_vector, first_non_finite};
 use crate::rnea::check_inputs;
 use aba::AbaLanes;
 use crba::CrbaLanes;
-use kinetree_kinematics::batch::{Simd, batch_size};
+use kinetree_kinematics::batch::{Io, Simd, batch_size};
 use kinetree_kinematics::model::Model;
 use rnea::RneaLanes;
 
@@ -63,7 +63,7 @@ struct BatchLanes<const L: usize> {
 impl<const L: usize> BatchLanes<L> {
     fn new(model: &Model, data: &DynamicsData) -> Self {
         Self {
-            rnea: RneaLanes::new(model),
+            rnea: RneaLanes::new(model, data),
             aba: AbaLanes::new(model, data),
             crba: CrbaLanes::new(model),
         }
@@ -177,21 +177,18 @@ fn states_pass(model: &Model, inputs: &[&[f64]]) -> bool {
     model.quaternion_blocks().is_empty() && inputs.iter().all(|x| first_non_finite(x).is_none())
 }
 
-/// Checks every one of the `n` states `(q, v, a)` as [`rnea`](crate::rnea) does (the buffers'
-/// lengths already checked); an error names the first bad state by its index.
+/// Checks the states `(q, v, a)` from state `from` on as [`rnea`](crate::rnea) does (the
+/// buffers' lengths already checked); an error names the first bad state by its index.
 fn check_rnea_states(
     model: &Model,
     data: &DynamicsData,
-    n: usize,
+    (from, n): (usize, usize),
     q: &[f64],
     v: &[f64],
     a: &[f64],
 ) -> Result<(), DynamicsError> {
-    if states_pass(model, &[q, v, a]) {
-        return Ok(());
-    }
     let (nq, nv) = (model.nq(), model.nv());
-    for k in 0..n {
+    for k in from..n {
         let r = k * nv..(k + 1) * nv;
         check_inputs(
             model,
@@ -256,16 +253,21 @@ pub fn rnea_batch(
     check_buffer("v", v.len(), n, nv)?;
     check_buffer("a", a.len(), n, nv)?;
     check_buffer("tau", tau.len(), n, nv)?;
-    check_rnea_states(model, &batch.data, n, q, v, a)?;
     let data = &batch.data;
-    kinetree_kinematics::simd_dispatch!(
+    let io = Io::new(batch.simd);
+    let flagged = kinetree_kinematics::simd_dispatch!(
         batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, rnea_kernel,
-        (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, v: &[f64] = v,
-         a: &[f64] = a, n: usize = n, tau: &mut [f64] = tau) -> ()
+        (io: Io = io, model: &Model = model, data: &DynamicsData = data, q: &[f64] = q,
+         v: &[f64] = v, a: &[f64] = a, n: usize = n, tau: &mut [f64] = tau) -> rnea::Flagged
     );
-    if let Some(i) = first_non_finite(tau) {
+    // The lanes proved every other state's inputs valid; the one-state checks decide from the
+    // first state they could not.
+    if let Some(k) = flagged.suspect {
+        check_rnea_states(model, &batch.data, (k, n), q, v, a)?;
+    }
+    if let Some(k) = flagged.not_finite {
         // The one-state function names the joint that overflowed.
-        let (k, r) = (i / nv, (i / nv) * nv..(i / nv + 1) * nv);
+        let r = k * nv..(k + 1) * nv;
         crate::rnea(
             model,
             &mut batch.data,
@@ -285,6 +287,7 @@ pub fn rnea_batch(
 )]
 fn rnea_kernel<const L: usize>(
     bufs: &mut BatchLanes<L>,
+    io: Io,
     model: &Model,
     data: &DynamicsData,
     q: &[f64],
@@ -292,8 +295,8 @@ fn rnea_kernel<const L: usize>(
     a: &[f64],
     n: usize,
     tau: &mut [f64],
-) {
-    rnea::rnea(&mut bufs.rnea, model, data, q, v, a, n, tau);
+) -> rnea::Flagged {
+    rnea::rnea(&mut bufs.rnea, io, model, data, q, v, a, n, tau)
 }
 
 /// Forward dynamics of `N` states: `ddq` (`N · nv`) receives the accelerations

@@ -2,8 +2,9 @@
 //! states at a time.
 
 use crate::data::{DynamicsData, sign};
+use crate::rnea::turns_about;
 use kinetree_kinematics::JointModel;
-use kinetree_kinematics::batch::{block_states, body_transform, gather};
+use kinetree_kinematics::batch::{Io, block_states, body_transform_in_lanes, suspect_lanes};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
@@ -12,22 +13,43 @@ use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes, r
 /// The per-body lane buffers of RNEA for one lane width.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct RneaLanes<const L: usize> {
+    /// The block's `q`, `v` and `a` in lanes (`Io::load_coordinates`; lengths rounded up to 8).
+    q: Vec<Lanes<L>>,
+    v: Vec<Lanes<L>>,
+    a: Vec<Lanes<L>>,
     parent_from_body: Vec<LSe3<L>>,
     velocity: Vec<LMotion<L>>,
     acceleration: Vec<LMotion<L>>,
     force: Vec<LForce<L>>,
+    /// The block's torques, `nv` rounded up to 8 (`Io::store_coordinates`).
     tau: Vec<Lanes<L>>,
+    /// Per body, the coordinate axis a revolute joint turns about when its placement does not
+    /// rotate or rotates about the same axis (`rnea::turns_about`), else 3.
+    turn: Vec<u8>,
 }
 
 impl<const L: usize> RneaLanes<L> {
-    pub(crate) fn new(model: &Model) -> Self {
+    pub(crate) fn new(model: &Model, data: &DynamicsData) -> Self {
         let nb = model.nbodies();
+        let joint_models = data.kinematics.joint_models();
+        let turn = (0..nb)
+            .map(|i| match joint_models[i].axis_index() {
+                Some((k, true)) if i > 0 && turns_about(&data.placement_rot[i], k) => k as u8,
+                _ => 3,
+            })
+            .collect();
+        let nq8 = model.nq().next_multiple_of(8);
+        let nv8 = model.nv().next_multiple_of(8);
         Self {
+            q: vec![Lanes::ZERO; nq8],
+            v: vec![Lanes::ZERO; nv8],
+            a: vec![Lanes::ZERO; nv8],
             parent_from_body: vec![LSe3::default(); nb],
             velocity: vec![LMotion::ZERO; nb],
             acceleration: vec![LMotion::ZERO; nb],
             force: vec![LForce::ZERO; nb],
-            tau: vec![Lanes::ZERO; model.nv()],
+            tau: vec![Lanes::ZERO; nv8],
+            turn,
         }
     }
 }
@@ -51,32 +73,184 @@ fn add_cross_unit<const L: usize>(out: &mut LVec3<L>, k: usize, a: &LVec3<L>, s:
     }
 }
 
-/// The joint velocity `S·v` of a block of states, lane by lane with the one-state kernel.
+/// `Rᵀ·u` for a rotation `r` about coordinate axis `K` only (as `AxisTurn::inverse_rotate` of
+/// `rnea.rs`: the products by its 0 and 1 entries left out).
+#[inline(always)]
+fn turn_inverse_rotate<const L: usize, const K: usize>(
+    r: &kinetree_kinematics::spatial::lanes::LMat3<L>,
+    u: &LVec3<L>,
+) -> LVec3<L> {
+    match K {
+        0 => LVec3 {
+            x: u.x,
+            y: r.y_axis.y * u.y + r.y_axis.z * u.z,
+            z: r.z_axis.y * u.y + r.z_axis.z * u.z,
+        },
+        1 => LVec3 {
+            x: r.x_axis.x * u.x + r.x_axis.z * u.z,
+            y: u.y,
+            z: r.z_axis.x * u.x + r.z_axis.z * u.z,
+        },
+        _ => LVec3 {
+            x: r.x_axis.x * u.x + r.x_axis.y * u.y,
+            y: r.y_axis.x * u.x + r.y_axis.y * u.y,
+            z: u.z,
+        },
+    }
+}
+
+/// `R·u` for a rotation `r` about coordinate axis `K` only (as `AxisTurn::rotate`).
+#[inline(always)]
+fn turn_rotate<const L: usize, const K: usize>(
+    r: &kinetree_kinematics::spatial::lanes::LMat3<L>,
+    u: &LVec3<L>,
+) -> LVec3<L> {
+    match K {
+        0 => LVec3 {
+            x: u.x,
+            y: r.y_axis.y * u.y + r.z_axis.y * u.z,
+            z: r.y_axis.z * u.y + r.z_axis.z * u.z,
+        },
+        1 => LVec3 {
+            x: r.x_axis.x * u.x + r.z_axis.x * u.z,
+            y: u.y,
+            z: r.x_axis.z * u.x + r.z_axis.z * u.z,
+        },
+        _ => LVec3 {
+            x: r.x_axis.x * u.x + r.y_axis.x * u.y,
+            y: r.x_axis.y * u.x + r.y_axis.y * u.y,
+            z: u.z,
+        },
+    }
+}
+
+/// `x.act_inv_motion(m)` for a transform whose rotation turns about axis `K` only (as
+/// `AxisTurn::act_inv_motion`).
+#[inline(always)]
+fn turn_act_inv_motion<const L: usize, const K: usize>(x: &LSe3<L>, m: &LMotion<L>) -> LMotion<L> {
+    LMotion {
+        linear: turn_inverse_rotate::<L, K>(
+            &x.rotation,
+            &(m.linear - x.translation.cross(&m.angular)),
+        ),
+        angular: turn_inverse_rotate::<L, K>(&x.rotation, &m.angular),
+    }
+}
+
+/// `x.act_force(f)` for a transform whose rotation turns about axis `K` only (as
+/// `AxisTurn::act_force`).
+#[inline(always)]
+fn turn_act_force<const L: usize, const K: usize>(x: &LSe3<L>, f: &LForce<L>) -> LForce<L> {
+    let lin = turn_rotate::<L, K>(&x.rotation, &f.linear);
+    LForce {
+        linear: lin,
+        angular: turn_rotate::<L, K>(&x.rotation, &f.angular) + x.translation.cross(&lin),
+    }
+}
+
+/// The velocity and acceleration of a body whose joint is revolute about (`revolute`) or
+/// prismatic along coordinate axis `k`, as `rnea::body::<true, true, K, REV, _>`; `inv` is the
+/// inverse motion transform of the body's placement.
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one body's inputs, as rnea::body takes them"
+)]
+fn axis_body<const L: usize>(
+    inv: impl Fn(&LMotion<L>) -> LMotion<L>,
+    k: usize,
+    revolute: bool,
+    has_parent: bool,
+    parent_v: &LMotion<L>,
+    parent_a: &LMotion<L>,
+    qd: Lanes<L>,
+    qdd: Lanes<L>,
+) -> (LMotion<L>, LMotion<L>) {
+    let mut ai = inv(parent_a);
+    if revolute {
+        *ai.angular.get_mut(k) += qdd;
+    } else {
+        *ai.linear.get_mut(k) += qdd;
+    }
+    let mut vi = LMotion::ZERO;
+    if has_parent {
+        vi = inv(parent_v);
+    }
+    if revolute {
+        *vi.angular.get_mut(k) += qd;
+        add_cross_unit(&mut ai.linear, k, &vi.linear, qd);
+        add_cross_unit(&mut ai.angular, k, &vi.angular, qd);
+    } else {
+        *vi.linear.get_mut(k) += qd;
+        add_cross_unit(&mut ai.linear, k, &vi.angular, qd);
+    }
+    (vi, ai)
+}
+
+/// The joint velocity `S·v` of a block of states (`v` in lanes): a free joint's six lanes as
+/// they are, every other kind lane by lane with the one-state kernel.
 #[inline(always)]
 fn joint_motion<const L: usize>(
     jm: &JointModel,
     range: core::ops::Range<usize>,
-    x: &[f64],
-    nv: usize,
-    idx: &[usize; L],
+    lanes: &[Lanes<L>],
 ) -> LMotion<L> {
+    let x = &lanes[range];
+    if matches!(jm, JointModel::Floating) {
+        return LMotion {
+            linear: LVec3 {
+                x: x[0],
+                y: x[1],
+                z: x[2],
+            },
+            angular: LVec3 {
+                x: x[3],
+                y: x[4],
+                z: x[5],
+            },
+        };
+    }
     let mut out = LMotion::ZERO;
+    let mut state = [0.0; 6];
     for l in 0..L {
-        let base = idx[l] * nv;
-        out.set_lane(l, &jm.motion(&x[base + range.start..base + range.end]));
+        for (s, x) in state.iter_mut().zip(x) {
+            *s = x.0[l];
+        }
+        out.set_lane(l, &jm.motion(&state[..x.len()]));
     }
     out
 }
 
-/// RNEA of the `n` states of `(q, v, a)` into `tau` (inputs checked by the caller), as
-/// `rnea::sweep::<true, true>` without external forces.
+/// The first of the `count` lanes (states from `start`) whose probe is not 0.
+#[inline(always)]
+fn first_flagged<const L: usize>(probe: Lanes<L>, start: usize, count: usize) -> Option<usize> {
+    (0..count).find(|&k| probe.0[k] != 0.0).map(|k| start + k)
+}
+
+/// What a batched RNEA sweep found: the first state whose inputs the one-state function may
+/// refuse (to be checked by it), and the first state with a torque that is not finite.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Flagged {
+    pub(crate) suspect: Option<usize>,
+    pub(crate) not_finite: Option<usize>,
+}
+
+/// RNEA of the `n` states of `(q, v, a)` into `tau` (buffer lengths checked by the caller), as
+/// `rnea::sweep::<true, true>` without external forces. The states' inputs are checked in the
+/// lanes: finiteness by a probe, quaternions by their sums of squares ([`suspect_lanes`]); a
+/// state flagged there is reported for the one-state check to decide.
 #[inline(always)]
 #[allow(
     clippy::too_many_arguments,
     reason = "the batch's inputs, passed through"
 )]
+#[allow(
+    clippy::too_many_lines,
+    reason = "the two sweeps of one algorithm, as in rnea.rs"
+)]
 pub(crate) fn rnea<const L: usize>(
     bufs: &mut RneaLanes<L>,
+    io: Io,
     model: &Model,
     data: &DynamicsData,
     q: &[f64],
@@ -84,50 +258,85 @@ pub(crate) fn rnea<const L: usize>(
     a: &[f64],
     n: usize,
     tau: &mut [f64],
-) {
+) -> Flagged {
     let (nq, nv) = (model.nq(), model.nv());
     let bodies = model.bodies();
     let joint_models = data.kinematics.joint_models();
     let a0 = LMotion::splat(&Motion::new(-model.gravity(), DVec3::ZERO));
+    let mut flagged = Flagged::default();
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
+        let finite = io.load_coordinates(q, nq, &idx, &mut bufs.q)
+            + io.load_coordinates(v, nv, &idx, &mut bufs.v)
+            + io.load_coordinates(a, nv, &idx, &mut bufs.a);
+        if flagged.suspect.is_none() {
+            flagged.suspect = first_flagged(suspect_lanes(model, &bufs.q, finite), start, count);
+        }
         for i in 1..bodies.len() {
             let b = &bodies[i];
             let jm = &joint_models[i];
-            let x = body_transform(jm, b, q, nq, &idx);
+            let x = body_transform_in_lanes(jm, b, &bufs.q, q, nq, &idx);
             bufs.parent_from_body[i] = x;
             let p = b.parent;
             let parent_a = if p == 0 { a0 } else { bufs.acceleration[p] };
             let (vi, ai) = match jm.axis_index() {
                 Some((k, revolute)) => {
-                    let qd = gather(v, nv, b.idx_v, &idx);
-                    let qdd = gather(a, nv, b.idx_v, &idx);
-                    let mut ai = x.act_inv_motion(&parent_a);
-                    if revolute {
-                        *ai.angular.get_mut(k) += qdd;
+                    let (qd, qdd) = (bufs.v[b.idx_v], bufs.a[b.idx_v]);
+                    let parent_v = if p == 0 {
+                        LMotion::ZERO
                     } else {
-                        *ai.linear.get_mut(k) += qdd;
+                        bufs.velocity[p]
+                    };
+                    let (pv, pa) = (&parent_v, &parent_a);
+                    match bufs.turn[i] {
+                        0 => axis_body(
+                            |m| turn_act_inv_motion::<L, 0>(&x, m),
+                            k,
+                            revolute,
+                            p != 0,
+                            pv,
+                            pa,
+                            qd,
+                            qdd,
+                        ),
+                        1 => axis_body(
+                            |m| turn_act_inv_motion::<L, 1>(&x, m),
+                            k,
+                            revolute,
+                            p != 0,
+                            pv,
+                            pa,
+                            qd,
+                            qdd,
+                        ),
+                        2 => axis_body(
+                            |m| turn_act_inv_motion::<L, 2>(&x, m),
+                            k,
+                            revolute,
+                            p != 0,
+                            pv,
+                            pa,
+                            qd,
+                            qdd,
+                        ),
+                        _ => axis_body(
+                            |m| x.act_inv_motion(m),
+                            k,
+                            revolute,
+                            p != 0,
+                            pv,
+                            pa,
+                            qd,
+                            qdd,
+                        ),
                     }
-                    let mut vi = LMotion::ZERO;
-                    if p != 0 {
-                        vi = x.act_inv_motion(&bufs.velocity[p]);
-                    }
-                    if revolute {
-                        *vi.angular.get_mut(k) += qd;
-                        add_cross_unit(&mut ai.linear, k, &vi.linear, qd);
-                        add_cross_unit(&mut ai.angular, k, &vi.angular, qd);
-                    } else {
-                        *vi.linear.get_mut(k) += qd;
-                        add_cross_unit(&mut ai.linear, k, &vi.angular, qd);
-                    }
-                    (vi, ai)
                 }
                 None => {
                     let r = b.idx_v..b.idx_v + b.nv;
                     let mut ai = x.act_inv_motion(&parent_a);
-                    ai += joint_motion(jm, r.clone(), a, nv, &idx);
-                    let vj = joint_motion(jm, r, v, nv, &idx);
+                    ai += joint_motion(jm, r.clone(), &bufs.a);
+                    let vj = joint_motion(jm, r, &bufs.v);
                     let vi = if p == 0 {
                         vj
                     } else {
@@ -150,37 +359,44 @@ pub(crate) fn rnea<const L: usize>(
                 Some((k, true)) => bufs.tau[b.idx_v] = fi.angular.get(k),
                 Some((k, false)) => bufs.tau[b.idx_v] = fi.linear.get(k),
                 None => {
-                    for l in 0..count {
-                        let base = (start + l) * nv + b.idx_v;
-                        jm.project_force(&fi.lane(l), &mut tau[base..base + b.nv]);
+                    let mut out = [0.0; 6];
+                    for l in 0..L {
+                        jm.project_force(&fi.lane(l), &mut out[..b.nv]);
+                        for (k, x) in out[..b.nv].iter().enumerate() {
+                            bufs.tau[b.idx_v + k].0[l] = *x;
+                        }
                     }
                 }
             }
             if b.parent != 0 {
-                let fp = bufs.parent_from_body[i].act_force(&fi);
+                let x = &bufs.parent_from_body[i];
+                let fp = match bufs.turn[i] {
+                    0 => turn_act_force::<L, 0>(x, &fi),
+                    1 => turn_act_force::<L, 1>(x, &fi),
+                    2 => turn_act_force::<L, 2>(x, &fi),
+                    _ => x.act_force(&fi),
+                };
                 bufs.force[b.parent] += fp;
             }
         }
-        for i in 1..bodies.len() {
-            let b = &bodies[i];
-            if joint_models[i].axis_index().is_some() {
-                let t = bufs.tau[b.idx_v];
-                for l in 0..count {
-                    tau[(start + l) * nv + b.idx_v] = t.0[l];
-                }
-            }
-        }
-    }
-    if data.has_joint_terms {
-        for s in 0..n {
-            let out = &mut tau[s * nv..(s + 1) * nv];
-            let (vs, as_) = (&v[s * nv..(s + 1) * nv], &a[s * nv..(s + 1) * nv]);
+        if data.has_joint_terms {
+            // As the one-state sweep: `t = 0 + r·a`, `t += d·v + μ·sign(v)`, `τ += t`.
             for k in 0..nv {
-                let mut t = 0.0;
-                t += data.armature[k] * as_[k];
-                t += data.damping[k] * vs[k] + data.friction[k] * sign(vs[k]);
-                out[k] += t;
+                let (vk, ak) = (bufs.v[k], bufs.a[k]);
+                let mut t = Lanes::ZERO;
+                t += ak * data.armature[k];
+                t += vk * data.damping[k] + vk.map(sign) * data.friction[k];
+                bufs.tau[k] += t;
             }
         }
+        if flagged.not_finite.is_none() {
+            let mut probe = Lanes::ZERO;
+            for t in &bufs.tau[..nv] {
+                probe += *t * 0.0;
+            }
+            flagged.not_finite = first_flagged(probe, start, count);
+        }
+        io.store_coordinates(&bufs.tau, nv, tau, start, nv, count);
     }
+    flagged
 }

@@ -38,7 +38,12 @@ mod transpose;
 
 pub use simd::Simd;
 #[doc(hidden)]
-pub use simd::{block_states, body_transform, gather, revolute_axis_transform};
+pub use simd::{
+    block_states, body_transform, body_transform_in_lanes, gather, revolute_axis_transform,
+    suspect_lanes,
+};
+#[doc(hidden)]
+pub use transpose::Io;
 
 use crate::data::{FrameId, KinematicsData};
 use crate::error::KinematicsError;
@@ -46,7 +51,6 @@ use crate::jacobian::ReferenceFrame;
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
 use sweep::{LaneBuffers, Shape};
-use transpose::Io;
 
 /// The buffers of the batched kinematics for one [`Model`] (see the [module](self) docs).
 ///

@@ -2,8 +2,8 @@
 //! block of states in lanes.
 
 use crate::joint::{JointModel, sin_cos};
-use kinetree_model::Body;
 use kinetree_model::spatial::lanes::{LMat3, LSe3, LVec3, Lanes};
+use kinetree_model::{Body, Model};
 
 /// The SIMD instruction set a batch workspace runs its sweeps with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -282,6 +282,46 @@ pub fn body_transform<const L: usize>(
     idx: &[usize; L],
 ) -> LSe3<L> {
     body_transform_of(jm, b, &Gathered { q, nq, idx: *idx })
+}
+
+/// [`body_transform`] with the block's coordinates already in lanes (`lanes[j]` is coordinate
+/// `j` of every lane, as [`Io::load_coordinates`](super::Io::load_coordinates) leaves them); the
+/// joints computed lane by lane read the stacked states `q` (`nq` numbers each) of the block's
+/// states `idx`.
+#[inline(always)]
+pub fn body_transform_in_lanes<const L: usize>(
+    jm: &JointModel,
+    b: &Body,
+    lanes: &[Lanes<L>],
+    q: &[f64],
+    nq: usize,
+    idx: &[usize; L],
+) -> LSe3<L> {
+    let states = Gathered { q, nq, idx: *idx };
+    body_transform_of(jm, b, &InLanes { lanes, states })
+}
+
+/// The probe `finite` (NaN in a lane where a coordinate is not finite, 0 elsewhere) with NaN
+/// added in each lane where a quaternion of the coordinates `lanes` (`lanes[j]` is coordinate
+/// `j`) has a sum of squares that is not well inside the unit tolerance (|norm² − 1| ≤ 1.9e-6,
+/// a norm within 0.95e-6 of 1): a lane whose result is 0 holds a configuration the one-state
+/// functions accept; any other lane must be checked by them.
+#[inline(always)]
+pub fn suspect_lanes<const L: usize>(
+    model: &Model,
+    lanes: &[Lanes<L>],
+    finite: Lanes<L>,
+) -> Lanes<L> {
+    let mut suspect = finite;
+    for &(_, at) in model.quaternion_blocks() {
+        let (x, y, z, w) = (lanes[at], lanes[at + 1], lanes[at + 2], lanes[at + 3]);
+        let squares = x * x + y * y + z * z + w * w;
+        for l in 0..L {
+            let fine = (squares.0[l] - 1.0).abs() <= 1.9e-6;
+            suspect.0[l] += if fine { 0.0 } else { f64::NAN };
+        }
+    }
+    suspect
 }
 
 /// [`body_transform`] with the coordinates read from `c`.

@@ -3,7 +3,7 @@
 
 use super::simd::{
     Coordinates, Gathered, InLanes, block_states, body_transform_of, joint_sin_cos,
-    rotate_about_axis,
+    rotate_about_axis, suspect_lanes,
 };
 use super::transpose::Io;
 use crate::error::check_q;
@@ -180,15 +180,7 @@ fn first_refused<const L: usize>(
     start: usize,
     count: usize,
 ) -> Option<usize> {
-    let mut suspect = finite;
-    for &(_, at) in shape.model.quaternion_blocks() {
-        let (x, y, z, w) = (c.at(at), c.at(at + 1), c.at(at + 2), c.at(at + 3));
-        let squares = x * x + y * y + z * z + w * w;
-        for l in 0..L {
-            let fine = (squares.0[l] - 1.0).abs() <= 1.9e-6;
-            suspect.0[l] += if fine { 0.0 } else { f64::NAN };
-        }
-    }
+    let suspect = suspect_lanes(shape.model, c.lanes, finite);
     (0..count)
         .find(|&k| suspect.0[k] != 0.0 && check_q(shape.model, "q", c.state(k)).is_err())
         .map(|k| start + k)

@@ -14,7 +14,7 @@ use kinetree_model::spatial::{Motion, Se3};
 /// How a kernel moves records out of the lanes: chosen once per call from the workspace's
 /// [`Simd`], so that every instruction set's path runs in the tests.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Io {
+pub enum Io {
     /// One number at a time.
     Plain,
     /// 8×8 transposes in AVX-512F registers (8 lanes only).
@@ -25,7 +25,8 @@ pub(crate) enum Io {
 impl Io {
     /// The transposes for a kernel run with `simd`: AVX-512F only when the CPU has it (checked
     /// here, so the `unsafe` calls below rely on nothing else).
-    pub(crate) fn new(simd: Simd) -> Self {
+    #[must_use]
+    pub fn new(simd: Simd) -> Self {
         #[cfg(target_arch = "x86_64")]
         if simd == Simd::Avx512 && std::arch::is_x86_feature_detected!("avx512f") {
             return Self::Avx512;
@@ -66,7 +67,7 @@ impl Io {
     /// the block's finiteness probe: NaN in a lane where a coordinate is not finite, ±0
     /// elsewhere.
     #[inline(always)]
-    pub(crate) fn load_coordinates<const L: usize>(
+    pub fn load_coordinates<const L: usize>(
         self,
         q: &[f64],
         nq: usize,
@@ -95,6 +96,46 @@ impl Io {
             probe += *x * 0.0;
         }
         probe
+    }
+
+    /// The reverse of [`Io::load_coordinates`]: `out[(first + k)·stride + j] = rows[j]` of lane
+    /// `k`, for the `nrows` rows and the first `count` lanes (`rows` holds `nrows` rounded up to
+    /// 8).
+    #[inline(always)]
+    pub fn store_coordinates<const L: usize>(
+        self,
+        rows: &[Lanes<L>],
+        nrows: usize,
+        out: &mut [f64],
+        first: usize,
+        stride: usize,
+        count: usize,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if let (Self::Avx512, Some(rows8)) = (self, as8_ref(rows)) {
+            let end = (first + count.max(1) - 1) * stride + nrows;
+            if count <= 8 && end <= out.len() && rows8.len() >= nrows.next_multiple_of(8) {
+                #[allow(unsafe_code, reason = "AVX-512F calls")]
+                // SAFETY: `Io::Avx512` exists only when the CPU has AVX-512F (`Io::new`); the
+                // rows and every record written were just checked to be in bounds.
+                unsafe {
+                    avx512::store_rows(
+                        rows8,
+                        nrows,
+                        out.as_mut_ptr().add(first * stride),
+                        stride,
+                        count,
+                    )
+                };
+                return;
+            }
+        }
+        for k in 0..count {
+            let record = &mut out[(first + k) * stride..(first + k) * stride + nrows];
+            for (j, x) in record.iter_mut().enumerate() {
+                *x = rows[j].0[k];
+            }
+        }
     }
 
     /// Sets every motion of `out` to zero (without a call to `memset`, whose set-up costs more
@@ -186,6 +227,18 @@ fn as8<const L: usize>(x: &mut [Lanes<L>]) -> Option<&mut [Lanes<8>]> {
     Some(unsafe { &mut *(core::ptr::from_mut(x) as *mut [Lanes<8>]) })
 }
 
+/// `x` as 8-lane values when `L` is 8 (decided at compile time).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn as8_ref<const L: usize>(x: &[Lanes<L>]) -> Option<&[Lanes<8>]> {
+    if L != 8 {
+        return None;
+    }
+    #[allow(unsafe_code, reason = "a cast between one type's two spellings")]
+    // SAFETY: `L` is 8, so `Lanes<L>` is `Lanes<8>`: same type, same length.
+    Some(unsafe { &*(core::ptr::from_ref(x) as *const [Lanes<8>]) })
+}
+
 /// Where the records of a block go: the first state's record and the distance to the next, as
 /// a raw pointer into a slice whose bounds the caller checked for every record written.
 #[cfg(target_arch = "x86_64")]
@@ -262,6 +315,37 @@ mod avx512 {
         // SAFETY: `p` is eight numbers.
         unsafe { _mm512_storeu_pd(p.as_mut_ptr(), probe) };
         p
+    }
+
+    /// Stores `nrows` rows of eight lanes as eight records of `nrows` numbers (the first
+    /// `count` of them, record `k` from `at + k·stride`), eight rows at a time with an 8×8
+    /// transpose.
+    ///
+    /// # Safety
+    /// The CPU has AVX-512F, `rows.len() >= nrows` rounded up to 8, `count <= 8`, and
+    /// `at + k·stride` starts `nrows` writable numbers for every `k < count`.
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    pub(super) unsafe fn store_rows(
+        rows: &[Lanes<8>],
+        nrows: usize,
+        at: *mut f64,
+        stride: usize,
+        count: usize,
+    ) {
+        let mut j0 = 0;
+        while j0 < nrows {
+            let n = (nrows - j0).min(8);
+            let mask = if n == 8 { 0xff } else { (1u8 << n) - 1 };
+            // SAFETY: rows j0..j0 + 8 exist (the caller's promise), eight numbers each.
+            let r: [__m512d; 8] =
+                core::array::from_fn(|i| unsafe { _mm512_loadu_pd(rows[j0 + i].0.as_ptr()) });
+            for (k, col) in transpose(r).iter().enumerate().take(count) {
+                // SAFETY: record k's numbers j0..j0 + n are writable (the caller's promise).
+                unsafe { _mm512_mask_storeu_pd(at.add(k * stride + j0), mask, *col) };
+            }
+            j0 += 8;
+        }
     }
 
     /// Writes `len` zeros from `at`, eight at a time.
