@@ -148,16 +148,27 @@ fn turn_act_force<const L: usize, const K: usize>(x: &LSe3<L>, f: &LForce<L>) ->
     }
 }
 
+/// `x.act_inv_motion(m)`, through [`turn_act_inv_motion`] for `T` < 3.
+#[inline(always)]
+fn inv_motion<const L: usize, const T: u8>(x: &LSe3<L>, m: &LMotion<L>) -> LMotion<L> {
+    match T {
+        0 => turn_act_inv_motion::<L, 0>(x, m),
+        1 => turn_act_inv_motion::<L, 1>(x, m),
+        2 => turn_act_inv_motion::<L, 2>(x, m),
+        _ => x.act_inv_motion(m),
+    }
+}
+
 /// The velocity and acceleration of a body whose joint is revolute about (`revolute`) or
-/// prismatic along coordinate axis `k`, as `rnea::body::<true, true, K, REV, _>`; `inv` is the
-/// inverse motion transform of the body's placement.
+/// prismatic along coordinate axis `k`, as `rnea::body::<true, true, K, REV, _>`, from its
+/// placement `x` (whose rotation turns about axis `T` only, for `T` < 3).
 #[inline(always)]
 #[allow(
     clippy::too_many_arguments,
     reason = "one body's inputs, as rnea::body takes them"
 )]
-fn axis_body<const L: usize>(
-    inv: impl Fn(&LMotion<L>) -> LMotion<L>,
+fn axis_body<const L: usize, const T: u8>(
+    x: &LSe3<L>,
     k: usize,
     revolute: bool,
     has_parent: bool,
@@ -166,7 +177,7 @@ fn axis_body<const L: usize>(
     qd: Lanes<L>,
     qdd: Lanes<L>,
 ) -> (LMotion<L>, LMotion<L>) {
-    let mut ai = inv(parent_a);
+    let mut ai = inv_motion::<L, T>(x, parent_a);
     if revolute {
         *ai.angular.get_mut(k) += qdd;
     } else {
@@ -174,7 +185,7 @@ fn axis_body<const L: usize>(
     }
     let mut vi = LMotion::ZERO;
     if has_parent {
-        vi = inv(parent_v);
+        vi = inv_motion::<L, T>(x, parent_v);
     }
     if revolute {
         *vi.angular.get_mut(k) += qd;
@@ -289,47 +300,12 @@ pub(crate) fn rnea<const L: usize>(
                         bufs.velocity[p]
                     };
                     let (pv, pa) = (&parent_v, &parent_a);
-                    match bufs.turn[i] {
-                        0 => axis_body(
-                            |m| turn_act_inv_motion::<L, 0>(&x, m),
-                            k,
-                            revolute,
-                            p != 0,
-                            pv,
-                            pa,
-                            qd,
-                            qdd,
-                        ),
-                        1 => axis_body(
-                            |m| turn_act_inv_motion::<L, 1>(&x, m),
-                            k,
-                            revolute,
-                            p != 0,
-                            pv,
-                            pa,
-                            qd,
-                            qdd,
-                        ),
-                        2 => axis_body(
-                            |m| turn_act_inv_motion::<L, 2>(&x, m),
-                            k,
-                            revolute,
-                            p != 0,
-                            pv,
-                            pa,
-                            qd,
-                            qdd,
-                        ),
-                        _ => axis_body(
-                            |m| x.act_inv_motion(m),
-                            k,
-                            revolute,
-                            p != 0,
-                            pv,
-                            pa,
-                            qd,
-                            qdd,
-                        ),
+                    let (t, hp) = (bufs.turn[i], p != 0);
+                    match t {
+                        0 => axis_body::<L, 0>(&x, k, revolute, hp, pv, pa, qd, qdd),
+                        1 => axis_body::<L, 1>(&x, k, revolute, hp, pv, pa, qd, qdd),
+                        2 => axis_body::<L, 2>(&x, k, revolute, hp, pv, pa, qd, qdd),
+                        _ => axis_body::<L, 3>(&x, k, revolute, hp, pv, pa, qd, qdd),
                     }
                 }
                 None => {
