@@ -66,16 +66,40 @@ fn free_port() -> u16 {
         .port()
 }
 
-/// One HTTP request with a JSON body on a fresh connection; the JSON answer.
+/// One HTTP request with a JSON body on a fresh connection; the JSON answer. A connection that
+/// fails (refused, reset or closed early: chromedriver under a loaded machine does this now and
+/// then) is retried on a new connection a few times before the test fails with the last error.
 fn request(port: u16, method: &str, path: &str, body: Option<&Value>) -> Value {
     let body = body.map(Value::to_string).unwrap_or_default();
-    let mut s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    let mut last = String::new();
+    for attempt in 0..4 {
+        if attempt > 0 {
+            std::thread::sleep(Duration::from_millis(250 << attempt));
+        }
+        match try_request(port, method, path, &body) {
+            Ok(answer) => return answer,
+            Err(e) => last = e.to_string(),
+        }
+    }
+    panic!("{method} {path}: {last} (4 attempts)")
+}
+
+/// One attempt of [`request`]: an I/O error, a connection closed early or an unreadable answer
+/// is an `Err`.
+fn try_request(port: u16, method: &str, path: &str, body: &str) -> std::io::Result<Value> {
+    use std::io::{Error, ErrorKind};
+    let mut s = TcpStream::connect(("127.0.0.1", port))?;
     write!(
         s,
         "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
         body.len()
-    )
-    .unwrap();
+    )?;
+    let closed = |what: &str| {
+        Error::new(
+            ErrorKind::UnexpectedEof,
+            format!("connection closed {what}"),
+        )
+    };
     // chromedriver keeps the connection open: read the head, then Content-Length bytes.
     let mut out = Vec::new();
     let mut buf = [0u8; 65536];
@@ -83,8 +107,10 @@ fn request(port: u16, method: &str, path: &str, body: Option<&Value>) -> Value {
         if let Some(end) = out.windows(4).position(|w| w == b"\r\n\r\n") {
             break end;
         }
-        let n = s.read(&mut buf).unwrap();
-        assert!(n > 0, "{method} {path}: connection closed before the head");
+        let n = s.read(&mut buf)?;
+        if n == 0 {
+            return Err(closed("before the head"));
+        }
         out.extend_from_slice(&buf[..n]);
     };
     let head = String::from_utf8_lossy(&out[..end]).to_ascii_lowercase();
@@ -95,18 +121,24 @@ fn request(port: u16, method: &str, path: &str, body: Option<&Value>) -> Value {
         .map(|v| v.trim().parse::<usize>().unwrap());
     if let Some(length) = length {
         while rest.len() < length {
-            let n = s.read(&mut buf).unwrap();
-            assert!(n > 0, "{method} {path}: connection closed in the body");
+            let n = s.read(&mut buf)?;
+            if n == 0 {
+                return Err(closed("in the body"));
+            }
             rest.extend_from_slice(&buf[..n]);
         }
     } else {
-        s.read_to_end(&mut rest).unwrap();
+        s.read_to_end(&mut rest)?;
         if head.contains("transfer-encoding: chunked") {
             rest = dechunk(&rest);
         }
     }
-    serde_json::from_slice(&rest)
-        .unwrap_or_else(|e| panic!("{method} {path}: {e}: {}", String::from_utf8_lossy(&rest)))
+    serde_json::from_slice(&rest).map_err(|e| {
+        Error::new(
+            ErrorKind::InvalidData,
+            format!("{e}: {}", String::from_utf8_lossy(&rest)),
+        )
+    })
 }
 
 fn dechunk(mut data: &[u8]) -> Vec<u8> {
