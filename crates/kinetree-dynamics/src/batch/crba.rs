@@ -5,10 +5,17 @@
 use super::composite::{LOrigin, LRotation};
 use crate::data::{AncestorStep, DynamicsData};
 use kinetree_kinematics::JointModel;
-use kinetree_kinematics::batch::{block_states, body_transform, revolute_axis_transform};
+use kinetree_kinematics::batch::{Io, block_states, body_transform, revolute_axis_transform};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::RotationForm;
 use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes};
+
+/// The largest `nv²` whose block of matrices is assembled in lanes and written through the
+/// transposes: 256 entries are 16 KiB of 8-lane buffer, which stays in the first-level cache.
+/// Measured (`kinetree bench --batch 1024`, AVX-512, one thread, min of 3 rounds, ns/state):
+/// panda (nv 9) 220 → 205, ur5 (nv 6) 165 → 117, but solo12 (nv 18, 20 KiB) 450 → 543 and
+/// talos_full_v2 (nv 50, 160 KiB) 2599 → 3063, so larger models keep the state-by-state writes.
+const DENSE_MAX: usize = 256;
 
 /// The per-body lane buffers of CRBA for one lane width, and the block's mass matrices.
 #[derive(Clone, Debug, Default)]
@@ -24,6 +31,11 @@ pub(crate) struct CrbaLanes<const L: usize> {
     places: Vec<(usize, usize)>,
     /// The index in `entries` of each diagonal entry (for the armature).
     diagonal: Vec<usize>,
+    /// For `nv² ≤ DENSE_MAX`, the block's whole matrices in lanes, row-major (`nv²` rounded up
+    /// to 8 for the transposes of `Io::store_coordinates`): `entries` are copied to their
+    /// places, and the places no entry has stay 0. Empty for larger models, whose matrices are
+    /// written state by state from `entries` ([`store_block`]).
+    dense: Vec<Lanes<L>>,
 }
 
 impl<const L: usize> CrbaLanes<L> {
@@ -37,6 +49,11 @@ impl<const L: usize> CrbaLanes<L> {
             entries: vec![Lanes::ZERO; places.len()],
             places,
             diagonal,
+            dense: if model.nv() * model.nv() <= DENSE_MAX {
+                vec![Lanes::ZERO; (model.nv() * model.nv()).next_multiple_of(8)]
+            } else {
+                Vec::new()
+            },
         }
     }
 }
@@ -203,8 +220,13 @@ fn store_block<const L: usize>(
 /// `crba::compute`'s) is finite: then every entry is, and the caller need not read the
 /// matrices again.
 #[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the batch's inputs, passed through"
+)]
 pub(crate) fn crba<const L: usize>(
     bufs: &mut CrbaLanes<L>,
+    io: Io,
     model: &Model,
     data: &DynamicsData,
     q: &[f64],
@@ -335,12 +357,22 @@ pub(crate) fn crba<const L: usize>(
                 probe += *d;
             }
         }
-        store_block(
-            m,
-            &bufs.places,
-            &mut mass_matrix[start * nn..(start + count) * nn],
-            nn,
-        );
+        if bufs.dense.is_empty() {
+            store_block(
+                m,
+                &bufs.places,
+                &mut mass_matrix[start * nn..(start + count) * nn],
+                nn,
+            );
+        } else {
+            // Each entry to its two places in the block's matrices, then every state's matrix
+            // out through the transposes.
+            for (x, &(a, b)) in m.iter().zip(&bufs.places) {
+                bufs.dense[a] = *x;
+                bufs.dense[b] = *x;
+            }
+            io.store_coordinates(&bufs.dense, nn, mass_matrix, start, nn, count);
+        }
         finite &= probe.0[..count].iter().all(|p| p.is_finite());
     }
     finite

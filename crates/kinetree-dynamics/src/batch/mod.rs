@@ -388,10 +388,11 @@ pub fn crba_batch(
         }
     }
     let data = &batch.data;
+    let io = Io::new(batch.simd);
     let finite = kinetree_kinematics::simd_dispatch!(
         batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, crba_kernel,
-        (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, n: usize = n,
-         mass_matrix: &mut [f64] = mass_matrix) -> bool
+        (io: Io = io, model: &Model = model, data: &DynamicsData = data, q: &[f64] = q,
+         n: usize = n, mass_matrix: &mut [f64] = mass_matrix) -> bool
     );
     // Finite probes prove every entry finite; otherwise an entry is not, or finite entries
     // overflowed a probe's sum.
@@ -409,11 +410,12 @@ pub fn crba_batch(
 #[inline(always)]
 fn crba_kernel<const L: usize>(
     bufs: &mut BatchLanes<L>,
+    io: Io,
     model: &Model,
     data: &DynamicsData,
     q: &[f64],
     n: usize,
     mass_matrix: &mut [f64],
 ) -> bool {
-    crba::crba(&mut bufs.crba, model, data, q, n, mass_matrix)
+    crba::crba(&mut bufs.crba, io, model, data, q, n, mass_matrix)
 }
