@@ -232,6 +232,22 @@ fn joint_motion<const L: usize>(
     out
 }
 
+/// `*dst = *src`, one lane vector at a time. A whole-struct assignment of a transform held in a
+/// local compiles to a call of `memcpy` (768 bytes with 8 lanes, after a `vzeroupper`), which
+/// took about 8 % of a batched panda RNEA; twelve vector copies do not.
+#[inline(always)]
+pub(crate) fn copy_se3<const L: usize>(dst: &mut LSe3<L>, src: &LSe3<L>) {
+    let copy = |d: &mut LVec3<L>, s: &LVec3<L>| {
+        d.x = s.x;
+        d.y = s.y;
+        d.z = s.z;
+    };
+    copy(&mut dst.rotation.x_axis, &src.rotation.x_axis);
+    copy(&mut dst.rotation.y_axis, &src.rotation.y_axis);
+    copy(&mut dst.rotation.z_axis, &src.rotation.z_axis);
+    copy(&mut dst.translation, &src.translation);
+}
+
 /// The first of the `count` lanes (states from `start`) whose probe is not 0.
 #[inline(always)]
 fn first_flagged<const L: usize>(probe: Lanes<L>, start: usize, count: usize) -> Option<usize> {
@@ -288,7 +304,7 @@ pub(crate) fn rnea<const L: usize>(
             let b = &bodies[i];
             let jm = &joint_models[i];
             let x = body_transform_in_lanes(jm, b, &bufs.q, q, nq, &idx);
-            bufs.parent_from_body[i] = x;
+            copy_se3(&mut bufs.parent_from_body[i], &x);
             let p = b.parent;
             let parent_a = if p == 0 { a0 } else { bufs.acceleration[p] };
             let (vi, ai) = match jm.axis_index() {
