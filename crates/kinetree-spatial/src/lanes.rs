@@ -26,6 +26,87 @@ use crate::{Force, Inertia, Motion, OriginInertia, Se3, Symmetric3};
 use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 use glam::{DMat3, DVec3};
 
+/// A lane value on a 64-byte boundary (a [`LaneVec`] element). The lane types' sizes at 8 lanes
+/// are multiples of 64 bytes, so this adds no padding there.
+#[derive(Clone, Copy, Debug)]
+#[repr(align(64))]
+struct Aligned<T>(T);
+
+/// A fixed-length buffer of lane values, each starting on a cache-line boundary, so that 8-lane
+/// (AVX-512) loads and stores never straddle two lines. A `Vec` of them is aligned only as its
+/// element type (8 bytes), and a misaligned 64-byte access costs two.
+///
+/// ```
+/// use kinetree_spatial::lanes::{LaneVec, LMotion};
+/// let mut v = LaneVec::new(LMotion::<8>::ZERO, 3);
+/// v[1].linear.x.0[2] = 1.0;
+/// assert_eq!(v.len(), 3);
+/// assert_eq!(v.iter().map(|m| m.linear.x.0[2]).sum::<f64>(), 1.0);
+/// assert_eq!(&v[0] as *const _ as usize % 64, 0);
+/// ```
+#[derive(Clone, Debug)]
+pub struct LaneVec<T>(Vec<Aligned<T>>);
+
+impl<T: Clone> LaneVec<T> {
+    /// `n` copies of `x`.
+    #[must_use]
+    pub fn new(x: T, n: usize) -> Self {
+        Self(vec![Aligned(x); n])
+    }
+
+    /// Sets every element to `x`.
+    pub fn fill(&mut self, x: T) {
+        for e in &mut self.0 {
+            e.0 = x.clone();
+        }
+    }
+}
+
+impl<T> LaneVec<T> {
+    /// The number of elements.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Whether there are no elements.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// The elements in order.
+    pub fn iter(&self) -> impl Iterator<Item = &T> {
+        self.0.iter().map(|x| &x.0)
+    }
+
+    /// The elements in order, mutable.
+    pub fn iter_mut(&mut self) -> impl Iterator<Item = &mut T> {
+        self.0.iter_mut().map(|x| &mut x.0)
+    }
+}
+
+impl<T> Default for LaneVec<T> {
+    fn default() -> Self {
+        Self(Vec::new())
+    }
+}
+
+impl<T> core::ops::Index<usize> for LaneVec<T> {
+    type Output = T;
+    #[inline(always)]
+    fn index(&self, i: usize) -> &T {
+        &self.0[i].0
+    }
+}
+
+impl<T> core::ops::IndexMut<usize> for LaneVec<T> {
+    #[inline(always)]
+    fn index_mut(&mut self, i: usize) -> &mut T {
+        &mut self.0[i].0
+    }
+}
+
 /// `L` numbers, one per state.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(transparent)]

@@ -10,19 +10,19 @@ use kinetree_kinematics::batch::{block_states, body_transform, gather};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes};
+use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, LaneVec, Lanes};
 
 /// The per-body and per-coordinate lane buffers of ABA for one lane width.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AbaLanes<const L: usize> {
-    world_from_body: Vec<LSe3<L>>,
-    velocity: Vec<LMotion<L>>,
-    bias: Vec<LMotion<L>>,
-    articulated: Vec<LArticulated<L>>,
-    force: Vec<LForce<L>>,
-    acceleration: Vec<LMotion<L>>,
-    subspace: Vec<LMotion<L>>,
-    u_columns: Vec<LForce<L>>,
+    world_from_body: LaneVec<LSe3<L>>,
+    velocity: LaneVec<LMotion<L>>,
+    bias: LaneVec<LMotion<L>>,
+    articulated: LaneVec<LArticulated<L>>,
+    force: LaneVec<LForce<L>>,
+    acceleration: LaneVec<LMotion<L>>,
+    subspace: LaneVec<LMotion<L>>,
+    u_columns: LaneVec<LForce<L>>,
     u: Vec<Lanes<L>>,
     dinv: Vec<Lanes<L>>,
 }
@@ -31,14 +31,14 @@ impl<const L: usize> AbaLanes<L> {
     pub(crate) fn new(model: &Model, data: &DynamicsData) -> Self {
         let (nb, nv) = (model.nbodies(), model.nv());
         Self {
-            world_from_body: vec![LSe3::default(); nb],
-            velocity: vec![LMotion::ZERO; nb],
-            bias: vec![LMotion::ZERO; nb],
-            articulated: vec![LArticulated::default(); nb],
-            force: vec![LForce::ZERO; nb],
-            acceleration: vec![LMotion::ZERO; nb],
-            subspace: vec![LMotion::ZERO; nv],
-            u_columns: vec![LForce::ZERO; nv],
+            world_from_body: LaneVec::new(LSe3::default(), nb),
+            velocity: LaneVec::new(LMotion::ZERO, nb),
+            bias: LaneVec::new(LMotion::ZERO, nb),
+            articulated: LaneVec::new(LArticulated::default(), nb),
+            force: LaneVec::new(LForce::ZERO, nb),
+            acceleration: LaneVec::new(LMotion::ZERO, nb),
+            subspace: LaneVec::new(LMotion::ZERO, nv),
+            u_columns: LaneVec::new(LForce::ZERO, nv),
             u: vec![Lanes::ZERO; nv],
             dinv: vec![Lanes::ZERO; data.dinv.len()],
         }

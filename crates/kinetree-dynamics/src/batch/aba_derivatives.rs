@@ -15,7 +15,7 @@ use kinetree_kinematics::batch::gather;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LVec3, Lanes};
+use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LVec3, LaneVec, Lanes};
 
 /// A symmetric 6x6 inertia in world coordinates in lanes, in 3x3 blocks `[[a, b], [bᵀ, c]]`
 /// (the lane form of `derivatives::data::Articulated`, its arithmetic in the same order).
@@ -98,10 +98,10 @@ impl<const L: usize> LArticulated<L> {
 /// inverse-dynamics ones), and each lane's factor and pair for the solves.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AbaDerivativesLanes<const L: usize> {
-    bias: Vec<LMotion<L>>,
-    articulated: Vec<LArticulated<L>>,
-    articulated_force: Vec<LForce<L>>,
-    u_column: Vec<LForce<L>>,
+    bias: LaneVec<LMotion<L>>,
+    articulated: LaneVec<LArticulated<L>>,
+    articulated_force: LaneVec<LForce<L>>,
+    u_column: LaneVec<LForce<L>>,
     pivot_inverse: Vec<Lanes<L>>,
     u: Vec<Lanes<L>>,
     pub(crate) ddq: Vec<Lanes<L>>,
@@ -121,10 +121,10 @@ impl<const L: usize> AbaDerivativesLanes<L> {
         let w = 2 * tree.padded();
         let x = |n| vec![Lanes::ZERO; n];
         Self {
-            bias: vec![LMotion::ZERO; nb],
-            articulated: vec![LArticulated::default(); nb],
-            articulated_force: vec![LForce::ZERO; nb],
-            u_column: vec![LForce::ZERO; nv],
+            bias: LaneVec::new(LMotion::ZERO, nb),
+            articulated: LaneVec::new(LArticulated::default(), nb),
+            articulated_force: LaneVec::new(LForce::ZERO, nb),
+            u_column: LaneVec::new(LForce::ZERO, nv),
             pivot_inverse: x(nv),
             u: x(nv),
             ddq: x(nv),

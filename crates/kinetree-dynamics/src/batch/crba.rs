@@ -8,7 +8,7 @@ use kinetree_kinematics::JointModel;
 use kinetree_kinematics::batch::{Io, block_states, body_transform, revolute_axis_transform};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::RotationForm;
-use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes};
+use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, LaneVec, Lanes};
 
 /// The largest `nv²` whose block of matrices is assembled in lanes and written through the
 /// transposes: 256 entries are 16 KiB of 8-lane buffer, which stays in the first-level cache.
@@ -20,10 +20,10 @@ const DENSE_MAX: usize = 256;
 /// The per-body lane buffers of CRBA for one lane width, and the block's mass matrices.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct CrbaLanes<const L: usize> {
-    parent_from_body: Vec<LSe3<L>>,
+    parent_from_body: LaneVec<LSe3<L>>,
     /// The joint's rotation about its coordinate axis (revolute joints about x, y or z).
-    joint_rot: Vec<LRotation<L>>,
-    composite: Vec<LOrigin<L>>,
+    joint_rot: LaneVec<LRotation<L>>,
+    composite: LaneVec<LOrigin<L>>,
     /// The entries the sweep computes (one per ancestor pair of degrees of freedom, the diagonal
     /// included), in the order it computes them: see [`entry_layout`].
     entries: Vec<Lanes<L>>,
@@ -43,9 +43,9 @@ impl<const L: usize> CrbaLanes<L> {
         let nb = model.nbodies();
         let (places, diagonal) = entry_layout(model);
         Self {
-            parent_from_body: vec![LSe3::default(); nb],
-            joint_rot: vec![LRotation::Identity; nb],
-            composite: vec![LOrigin::default(); nb],
+            parent_from_body: LaneVec::new(LSe3::default(), nb),
+            joint_rot: LaneVec::new(LRotation::Identity, nb),
+            composite: LaneVec::new(LOrigin::default(), nb),
             entries: vec![Lanes::ZERO; places.len()],
             places,
             diagonal,

@@ -8,7 +8,9 @@ use kinetree_kinematics::batch::{Io, block_states, body_transform_in_lanes, susp
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, Lanes, rigid_rnea_force};
+use kinetree_kinematics::spatial::lanes::{
+    LForce, LMotion, LSe3, LVec3, LaneVec, Lanes, rigid_rnea_force,
+};
 
 /// The per-body lane buffers of RNEA for one lane width.
 #[derive(Clone, Debug, Default)]
@@ -17,10 +19,10 @@ pub(crate) struct RneaLanes<const L: usize> {
     q: Vec<Lanes<L>>,
     v: Vec<Lanes<L>>,
     a: Vec<Lanes<L>>,
-    parent_from_body: Vec<LSe3<L>>,
-    velocity: Vec<LMotion<L>>,
-    acceleration: Vec<LMotion<L>>,
-    force: Vec<LForce<L>>,
+    parent_from_body: LaneVec<LSe3<L>>,
+    velocity: LaneVec<LMotion<L>>,
+    acceleration: LaneVec<LMotion<L>>,
+    force: LaneVec<LForce<L>>,
     /// The block's torques, `nv` rounded up to 8 (`Io::store_coordinates`).
     tau: Vec<Lanes<L>>,
     /// Per body, the coordinate axis a revolute joint turns about when its placement does not
@@ -44,10 +46,10 @@ impl<const L: usize> RneaLanes<L> {
             q: vec![Lanes::ZERO; nq8],
             v: vec![Lanes::ZERO; nv8],
             a: vec![Lanes::ZERO; nv8],
-            parent_from_body: vec![LSe3::default(); nb],
-            velocity: vec![LMotion::ZERO; nb],
-            acceleration: vec![LMotion::ZERO; nb],
-            force: vec![LForce::ZERO; nb],
+            parent_from_body: LaneVec::new(LSe3::default(), nb),
+            velocity: LaneVec::new(LMotion::ZERO, nb),
+            acceleration: LaneVec::new(LMotion::ZERO, nb),
+            force: LaneVec::new(LForce::ZERO, nb),
             tau: vec![Lanes::ZERO; nv8],
             turn,
         }

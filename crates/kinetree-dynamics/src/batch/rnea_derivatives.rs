@@ -7,7 +7,7 @@ use kinetree_kinematics::JointModel;
 use kinetree_kinematics::batch::{body_transform, gather};
 use kinetree_kinematics::model::{Body, Model};
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LSe3, LVec3, Lanes};
+use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LSe3, LVec3, LaneVec, Lanes};
 use kinetree_kinematics::spatial::{Inertia, Motion};
 
 /// `a + b`, entry by entry.
@@ -210,20 +210,20 @@ fn variation_block<const L: usize>(
 /// one lane width (the matrices go to a [`Sink`]).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct RneaDerivativesLanes<const L: usize> {
-    pub(crate) world_from_body: Vec<LSe3<L>>,
-    pub(crate) velocity: Vec<LMotion<L>>,
-    pub(crate) acceleration: Vec<LMotion<L>>,
-    pub(crate) force: Vec<LForce<L>>,
-    pub(crate) composite: Vec<LWorldInertia<L>>,
-    pub(crate) momentum: Vec<LVec3<L>>,
-    pub(crate) variation: Vec<LMat3<L>>,
-    pub(crate) s: Vec<LMotion<L>>,
-    pub(crate) dv_dq: Vec<LMotion<L>>,
-    pub(crate) da_dq: Vec<LMotion<L>>,
-    pub(crate) da_dv: Vec<LMotion<L>>,
-    pub(crate) df_dq: Vec<LForce<L>>,
-    pub(crate) df_dv: Vec<LForce<L>>,
-    pub(crate) df_da: Vec<LForce<L>>,
+    pub(crate) world_from_body: LaneVec<LSe3<L>>,
+    pub(crate) velocity: LaneVec<LMotion<L>>,
+    pub(crate) acceleration: LaneVec<LMotion<L>>,
+    pub(crate) force: LaneVec<LForce<L>>,
+    pub(crate) composite: LaneVec<LWorldInertia<L>>,
+    pub(crate) momentum: LaneVec<LVec3<L>>,
+    pub(crate) variation: LaneVec<LMat3<L>>,
+    pub(crate) s: LaneVec<LMotion<L>>,
+    pub(crate) dv_dq: LaneVec<LMotion<L>>,
+    pub(crate) da_dq: LaneVec<LMotion<L>>,
+    pub(crate) da_dv: LaneVec<LMotion<L>>,
+    pub(crate) df_dq: LaneVec<LForce<L>>,
+    pub(crate) df_dv: LaneVec<LForce<L>>,
+    pub(crate) df_da: LaneVec<LForce<L>>,
     pub(crate) tau: Vec<Lanes<L>>,
 }
 
@@ -265,17 +265,17 @@ impl<const L: usize> Sink<L> for OutputSink<'_, L> {
 impl<const L: usize> RneaDerivativesLanes<L> {
     pub(crate) fn new(model: &Model) -> Self {
         let (nb, nv) = (model.nbodies(), model.nv());
-        let m = |n| vec![LMotion::ZERO; n];
-        let f = |n| vec![LForce::ZERO; n];
+        let m = |n| LaneVec::new(LMotion::ZERO, n);
+        let f = |n| LaneVec::new(LForce::ZERO, n);
         let x = |n| vec![Lanes::ZERO; n];
         Self {
-            world_from_body: vec![LSe3::default(); nb],
+            world_from_body: LaneVec::new(LSe3::default(), nb),
             velocity: m(nb),
             acceleration: m(nb),
             force: f(nb),
-            composite: vec![LWorldInertia::default(); nb],
-            momentum: vec![LVec3::ZERO; nb],
-            variation: vec![LMat3::default(); nb],
+            composite: LaneVec::new(LWorldInertia::default(), nb),
+            momentum: LaneVec::new(LVec3::ZERO, nb),
+            variation: LaneVec::new(LMat3::default(), nb),
             s: m(nv),
             dv_dq: m(nv),
             da_dq: m(nv),

@@ -10,47 +10,8 @@ use crate::error::check_q;
 use crate::jacobian::ReferenceFrame;
 use crate::joint::JointModel;
 use kinetree_model::Model;
-use kinetree_model::spatial::lanes::{LMotion, LSe3, LVec3, Lanes};
+use kinetree_model::spatial::lanes::{LMotion, LSe3, LVec3, LaneVec, Lanes};
 use kinetree_model::spatial::{Motion, Se3};
-use std::ops::{Index, IndexMut};
-
-/// A lane value on a 64-byte boundary. Every lane type's size is a multiple of 64 bytes at 4 and
-/// 8 lanes, so this adds no padding.
-#[derive(Clone, Copy, Debug)]
-#[repr(align(64))]
-struct Aligned<T>(T);
-
-/// A buffer of lane values whose elements start on cache-line boundaries, so the sweeps' 8-lane
-/// loads and stores never straddle two lines (a `Vec` of them is only 8-byte aligned).
-#[derive(Clone, Debug)]
-struct LaneVec<T>(Vec<Aligned<T>>);
-
-impl<T: Clone> LaneVec<T> {
-    fn new(x: T, n: usize) -> Self {
-        Self(vec![Aligned(x); n])
-    }
-}
-
-impl<T> Default for LaneVec<T> {
-    fn default() -> Self {
-        Self(Vec::new())
-    }
-}
-
-impl<T> Index<usize> for LaneVec<T> {
-    type Output = T;
-    #[inline(always)]
-    fn index(&self, i: usize) -> &T {
-        &self.0[i].0
-    }
-}
-
-impl<T> IndexMut<usize> for LaneVec<T> {
-    #[inline(always)]
-    fn index_mut(&mut self, i: usize) -> &mut T {
-        &mut self.0[i].0
-    }
-}
 
 /// The per-body and per-link lane buffers of one lane width.
 #[derive(Clone, Debug, Default)]
