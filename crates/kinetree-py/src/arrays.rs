@@ -43,6 +43,9 @@ pub(crate) struct States {
     pub(crate) count: Option<usize>,
     /// The argument's name, for messages.
     pub(crate) name: &'static str,
+    /// Whether the values are yet to be checked finite: a large stack read by
+    /// [`stack_states`], which the workers check block by block ([`checked_block`]).
+    pub(crate) unchecked: bool,
 }
 
 impl States {
@@ -60,7 +63,25 @@ impl States {
             width: self.width,
             count: self.count,
             name: self.name,
+            unchecked: self.unchecked,
         })
+    }
+
+    /// An error naming the first number that is not finite (`q[3, 2] is nan`), if any.
+    pub(crate) fn check_finite(&self, family: Family) -> PyResult<()> {
+        let Some(k) = first_non_finite(&self.values) else {
+            return Ok(());
+        };
+        let (name, width) = (self.name, self.width);
+        let at = if self.count.is_some() && width > 0 {
+            format!("[{}, {}]", k / width, k % width)
+        } else {
+            format!("[{k}]")
+        };
+        Err(family.err(format!(
+            "{name}{at} is {}: inputs must be finite",
+            self.values[k]
+        )))
     }
 }
 
@@ -70,6 +91,37 @@ impl States {
 /// A C-contiguous float64 ndarray (the common case) is copied straight from its buffer; anything
 /// else goes through numpy's conversion.
 pub(crate) fn states(
+    obj: &Bound<'_, PyAny>,
+    name: &'static str,
+    width: usize,
+    family: Family,
+) -> PyResult<States> {
+    let s = read_states(obj, name, width, family)?;
+    s.check_finite(family)?;
+    Ok(s)
+}
+
+/// As [`states`], for the calls that run through [`map_states`] or [`crate::parts`]: a large
+/// stack read in place is not scanned here, on the calling thread with the GIL held, but block by
+/// block by the workers ([`checked_block`]), and a bad number is then named as [`states`] names
+/// it ([`stack_failure`]). Single states and small stacks are checked here.
+pub(crate) fn stack_states(
+    obj: &Bound<'_, PyAny>,
+    name: &'static str,
+    width: usize,
+    family: Family,
+) -> PyResult<States> {
+    let mut s = read_states(obj, name, width, family)?;
+    if matches!(s.values, Values::Shared(_)) {
+        s.unchecked = true;
+    } else {
+        s.check_finite(family)?;
+    }
+    Ok(s)
+}
+
+/// [`states`] without the finiteness check.
+fn read_states(
     obj: &Bound<'_, PyAny>,
     name: &'static str,
     width: usize,
@@ -103,22 +155,12 @@ pub(crate) fn states(
             (Values::Owned(values), count)
         }
     };
-    if let Some(k) = first_non_finite(&values) {
-        let at = if count.is_some() && width > 0 {
-            format!("[{}, {}]", k / width, k % width)
-        } else {
-            format!("[{k}]")
-        };
-        return Err(family.err(format!(
-            "{name}{at} is {}: inputs must be finite",
-            values[k]
-        )));
-    }
     Ok(States {
         values,
         width,
         count,
         name,
+        unchecked: false,
     })
 }
 
@@ -378,6 +420,44 @@ pub(crate) fn block_of<'a>(inputs: &[&'a States], first: usize, last: usize) -> 
     s
 }
 
+/// [`block_of`], after checking that the block's numbers of the inputs left unchecked by
+/// [`stack_states`] are finite. The error (its state numbered in the block, as a block
+/// computation's) only marks the block as failed: [`stack_failure`] names the first bad number
+/// of the whole stack.
+pub(crate) fn checked_block<'a>(
+    inputs: &[&'a States],
+    first: usize,
+    last: usize,
+) -> Result<[&'a [f64]; 4], Box<(usize, kinetree::Error)>> {
+    let block = block_of(inputs, first, last);
+    for (x, input) in block.iter().zip(inputs) {
+        if input.unchecked
+            && let Some(k) = first_non_finite(x)
+        {
+            let what = input.name;
+            let index = k % input.width.max(1);
+            let error = kinetree::kinematics::KinematicsError::NonFinite { what, index };
+            return Err(Box::new((k / input.width.max(1), error.into())));
+        }
+    }
+    Ok(block)
+}
+
+/// The Python error of a failed stack: the first number that is not finite of an input left
+/// unchecked by [`stack_states`] (named as [`states`] names it), else the failed state's error.
+pub(crate) fn stack_failure(
+    inputs: &[&States],
+    family: Family,
+    failed: Box<(usize, kinetree::Error)>,
+) -> PyErr {
+    for input in inputs.iter().filter(|s| s.unchecked) {
+        if let Err(e) = input.check_finite(family) {
+            return e;
+        }
+    }
+    stack_error(failed)
+}
+
 /// Blocks per worker thread of a stacked call: enough for the workers to even out when one is
 /// slowed down (the machine is shared), few enough that taking a workspace per block is free.
 pub(crate) const BLOCKS_PER_THREAD: usize = 8;
@@ -404,15 +484,16 @@ where
 
 /// Runs the block computation `f` on every state of a stack of `n`, in parallel with the GIL
 /// released: the states are cut into a few contiguous blocks, each run by one worker with one
-/// workspace, writing straight into its rows of `out` (`size` numbers per state). An error names
-/// the failing state.
+/// workspace, writing straight into its rows of `out` (`size` numbers per state). Each worker
+/// checks its block of an input left unchecked by [`stack_states`] first. An error (of `family`
+/// for a bad number) names the first bad number, else the failing state.
 fn map_stack<S, F>(
     py: Python<'_>,
     model: &PyModel,
     inputs: &[&States],
-    n: usize,
-    size: usize,
+    (n, size): (usize, usize),
     out: &mut [f64],
+    family: Family,
     f: &F,
 ) -> PyResult<()>
 where
@@ -426,9 +507,9 @@ where
     if n <= INLINE_STATES {
         // Too little work to pay for releasing the GIL and waking the workers.
         return S::with(model, |scratch| {
-            f(scratch, n, &block_of(inputs, 0, n)[..n_in], out)
+            f(scratch, n, &checked_block(inputs, 0, n)?[..n_in], out)
         })
-        .map_err(stack_error);
+        .map_err(|failed| stack_failure(inputs, family, failed));
     }
     let threads = rayon::current_num_threads().max(1);
     let block = n
@@ -451,7 +532,7 @@ where
                 f(
                     scratch,
                     last - first,
-                    &block_of(inputs, first, last)[..n_in],
+                    &checked_block(inputs, first, last)?[..n_in],
                     chunk,
                 )
             })
@@ -461,7 +542,7 @@ where
             })
         })
     });
-    result.map_err(stack_error)
+    result.map_err(|failed| stack_failure(inputs, family, failed))
 }
 
 /// The Python error of a failed state of a stack, naming the state.
@@ -591,7 +672,7 @@ where
             Some(n) => {
                 let copies = copies_apart(inputs, &[address_range(values)], family)?;
                 let inputs = apart(inputs, &copies);
-                map_stack(py, model, &inputs, n, size, values, &f)?;
+                map_stack(py, model, &inputs, (n, size), values, family, &f)?;
             }
         }
     }

@@ -420,6 +420,7 @@ impl PyModel {
                 width: nv,
                 count: None,
                 name: "tau",
+                unchecked: false,
             },
         };
         if let Some(n) = tau.count

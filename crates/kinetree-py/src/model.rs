@@ -1,6 +1,6 @@
 //! The `Model` class: loading, sizes, names, limits, configuration-space helpers and pickling.
 
-use crate::arrays::{Real, States, finite, run_with, states, to_numpy};
+use crate::arrays::{Real, States, finite, run_with, stack_states, states, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::kinematics::FrameCache;
 use crate::scratch::{KinematicsBlock, Pool};
@@ -91,19 +91,22 @@ impl PyModel {
             .map_or(self.model.links().len(), Vec::len)
     }
 
-    /// Reads a configuration argument (`(nq,)` or `(N, nq)`).
+    /// Reads a configuration argument (`(nq,)` or `(N, nq)`). A large stack is checked finite by
+    /// the workers (see [`stack_states`]): give it to [`crate::arrays::map_states`] or
+    /// [`crate::parts`], or refuse stacks.
     pub(crate) fn q(&self, obj: &Bound<'_, PyAny>, family: Family) -> PyResult<States> {
-        states(obj, "q", self.model.nq(), family)
+        stack_states(obj, "q", self.model.nq(), family)
     }
 
-    /// Reads a velocity-space argument (`(nv,)` or `(N, nv)`) named `name`.
+    /// Reads a velocity-space argument (`(nv,)` or `(N, nv)`) named `name`, checked as
+    /// [`PyModel::q`].
     pub(crate) fn v(
         &self,
         obj: &Bound<'_, PyAny>,
         name: &'static str,
         family: Family,
     ) -> PyResult<States> {
-        states(obj, name, self.model.nv(), family)
+        stack_states(obj, name, self.model.nv(), family)
     }
 }
 

@@ -2,8 +2,8 @@
 //! own array, made here and written in place, by the workers for a stack.
 
 use crate::arrays::{
-    BLOCKS_PER_THREAD, BlockResult, INLINE_STATES, LANES, States, apart, batch_count, block_of,
-    copies_apart, fits, output, shape_text, stack_error,
+    BLOCKS_PER_THREAD, BlockResult, INLINE_STATES, LANES, States, apart, batch_count,
+    checked_block, copies_apart, fits, output, shape_text, stack_failure,
 };
 use crate::errors::{Family, to_py};
 use crate::model::PyModel;
@@ -156,8 +156,8 @@ where
         let run = |(first, last, mut outs): (usize, usize, [&mut [f64]; P])| -> BlockResult {
             DerivativesData::with(model, |d| {
                 for j in first..last {
-                    let parts =
-                        f(d, &block_of(inputs, j, j + 1)[..k]).map_err(|e| Box::new((j, e)))?;
+                    let parts = f(d, &checked_block(inputs, j, j + 1)?[..k])
+                        .map_err(|e| Box::new((j, e)))?;
                     let at = (j - first) * size;
                     for (o, m) in outs.iter_mut().zip(parts) {
                         for (to, from) in o[at..at + size].iter_mut().zip(m) {
@@ -186,7 +186,7 @@ where
         } else {
             py.detach(|| blocks.into_par_iter().try_for_each(run))
         };
-        result.map_err(stack_error)
+        result.map_err(|failed| stack_failure(inputs, family, failed))
     })
 }
 
@@ -218,7 +218,7 @@ where
     with_parts(py, nv, Some(n), inputs, out, family, |outs, inputs| {
         let run = |(first, last, outs): (usize, usize, [&mut [f64]; P])| -> BlockResult {
             S::with(model, |w| {
-                block(w, &block_of(inputs, first, last)[..k], outs)
+                block(w, &checked_block(inputs, first, last)?[..k], outs)
             })
             .map_err(|mut failed| {
                 failed.0 += first;
@@ -227,7 +227,7 @@ where
         };
         if n <= INLINE_STATES {
             // Too little work to pay for releasing the GIL and waking the workers.
-            return run((0, n, outs)).map_err(stack_error);
+            return run((0, n, outs)).map_err(|failed| stack_failure(inputs, family, failed));
         }
         let threads = rayon::current_num_threads().max(1);
         let per = n
@@ -242,6 +242,6 @@ where
             })
             .collect();
         py.detach(|| blocks.into_par_iter().try_for_each(run))
-            .map_err(stack_error)
+            .map_err(|failed| stack_failure(inputs, family, failed))
     })
 }

@@ -71,6 +71,45 @@ def test_a_bad_state_in_a_batch_names_the_state(panda):
         panda.aba(q, v, tau)
 
 
+def test_a_bad_number_in_a_large_stack_is_named_as_in_a_small_one(panda):
+    """A stack of more than 4 096 numbers is read in place and checked finite by the workers,
+    block by block: the error still names the first bad number of the first bad input, whichever
+    block hits its bad number first, for every kind of stacked call."""
+    n = 3000
+    q = panda.random_configuration(n, seed=2)
+    v = np.zeros((n, 9))
+    a = np.zeros((n, 9))
+    q[2900, 1] = np.nan  # a late block of q
+    q[1500, 6] = -np.inf  # the first bad number of q
+    v[10, 0] = np.nan  # an early block, but of a later argument
+    calls = [
+        (kinetree.DynamicsError, lambda: panda.rnea(q, v, a)),
+        (kinetree.DynamicsError, lambda: panda.aba(q, v, a)),
+        (kinetree.DynamicsError, lambda: panda.crba(q)),
+        (kinetree.DynamicsError, lambda: panda.nle(q, v)),
+        (kinetree.DynamicsError, lambda: panda.rnea_derivatives(q, v, a)),
+        (kinetree.DynamicsError, lambda: panda.gravity_derivatives(q)),
+        (kinetree.KinematicsError, lambda: panda.link_placements(q)),
+        (kinetree.KinematicsError, lambda: panda.frame_jacobian(q, "panda_hand_tcp")),
+    ]
+    for exc, call in calls:
+        with pytest.raises(exc, match=r"^q\[1500, 6\] is -inf: inputs must be finite$"):
+            call()
+    q[1500, 6] = q[2900, 1] = 0.0
+    for exc, call in calls[:2] + calls[3:5]:
+        with pytest.raises(exc, match=r"^v\[10, 0\] is NaN: inputs must be finite$"):
+            call()
+    v[10, 0] = 0.0
+    a[2999, 8] = np.inf
+    with pytest.raises(kinetree.DynamicsError, match=r"^a\[2999, 8\] is inf"):
+        panda.rnea(q, v, a)
+    with pytest.raises(kinetree.DynamicsError, match=r"^tau\[2999, 8\] is inf"):
+        panda.aba(q, v, a)
+    a[2999, 8] = 0.0
+    # and once every number is finite, the same stacks compute
+    assert panda.rnea(q, v, a).shape == (n, 9)
+
+
 def test_exception_hierarchy():
     for name in ("ModelError", "KinematicsError", "DynamicsError", "CollisionError", "IkError"):
         cls = getattr(kinetree, name)
