@@ -6,7 +6,7 @@ use super::articulated::{LArticulated, LRigid};
 use crate::aba::PIVOT_TOLERANCE;
 use crate::data::{DynamicsData, sign};
 use kinetree_kinematics::JointModel;
-use kinetree_kinematics::batch::{block_states, body_transform, gather};
+use kinetree_kinematics::batch::{Io, block_states, body_transform_in_lanes};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
@@ -15,6 +15,12 @@ use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, LaneVec,
 /// The per-body and per-coordinate lane buffers of ABA for one lane width.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AbaLanes<const L: usize> {
+    /// The block's `q`, `v` and `tau` in lanes, and its accelerations before they are written
+    /// out (`Io::load_coordinates`, `Io::store_coordinates`; lengths rounded up to 8).
+    q: Vec<Lanes<L>>,
+    v: Vec<Lanes<L>>,
+    tau: Vec<Lanes<L>>,
+    ddq: Vec<Lanes<L>>,
     world_from_body: LaneVec<LSe3<L>>,
     velocity: LaneVec<LMotion<L>>,
     bias: LaneVec<LMotion<L>>,
@@ -30,7 +36,12 @@ pub(crate) struct AbaLanes<const L: usize> {
 impl<const L: usize> AbaLanes<L> {
     pub(crate) fn new(model: &Model, data: &DynamicsData) -> Self {
         let (nb, nv) = (model.nbodies(), model.nv());
+        let (nq8, nv8) = (model.nq().next_multiple_of(8), nv.next_multiple_of(8));
         Self {
+            q: vec![Lanes::ZERO; nq8],
+            v: vec![Lanes::ZERO; nv8],
+            tau: vec![Lanes::ZERO; nv8],
+            ddq: vec![Lanes::ZERO; nv8],
             world_from_body: LaneVec::new(LSe3::default(), nb),
             velocity: LaneVec::new(LMotion::ZERO, nb),
             bias: LaneVec::new(LMotion::ZERO, nb),
@@ -143,6 +154,7 @@ fn div<const L: usize>(a: Lanes<L>, b: Lanes<L>) -> Lanes<L> {
 )]
 pub(crate) fn aba<const L: usize>(
     bufs: &mut AbaLanes<L>,
+    io: Io,
     model: &Model,
     data: &DynamicsData,
     q: &[f64],
@@ -159,12 +171,16 @@ pub(crate) fn aba<const L: usize>(
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
+        // The inputs were checked by the caller: the finiteness probes are not needed.
+        let _ = io.load_coordinates(q, nq, &idx, &mut bufs.q);
+        let _ = io.load_coordinates(v, nv, &idx, &mut bufs.v);
+        let _ = io.load_coordinates(tau, nv, &idx, &mut bufs.tau);
         // Pass 1, root to leaves: placements, velocities, bias accelerations, inertias and bias
         // forces in the world frame.
         for i in 1..nb {
             let b = &bodies[i];
             let jm = &joint_models[i];
-            let x = body_transform(jm, b, q, nq, &idx);
+            let x = body_transform_in_lanes(jm, b, &bufs.q, q, nq, &idx);
             let p = b.parent;
             let world = if p == 0 {
                 x
@@ -176,7 +192,7 @@ pub(crate) fn aba<const L: usize>(
             for k in 0..b.nv {
                 let s = world_column(jm, &world, k);
                 bufs.subspace[b.idx_v + k] = s;
-                vj += s.scale(gather(v, nv, b.idx_v + k, &idx));
+                vj += s.scale(bufs.v[b.idx_v + k]);
             }
             let (vi, ci) = if p == 0 {
                 (vj, LMotion::ZERO)
@@ -204,9 +220,9 @@ pub(crate) fn aba<const L: usize>(
                 let u_col = ia.mul_motion(&s);
                 bufs.u_columns[iv] = u_col;
                 let mut d = s.dot(&u_col);
-                let mut u = gather(tau, nv, iv, &idx) - s.dot(&pa);
+                let mut u = bufs.tau[iv] - s.dot(&pa);
                 if data.has_joint_terms {
-                    let vk = gather(v, nv, iv, &idx);
+                    let vk = bufs.v[iv];
                     d += Lanes::splat(data.armature[iv]);
                     u -= vk * data.damping[iv] + vk.map(sign) * data.friction[iv];
                 }
@@ -234,9 +250,9 @@ pub(crate) fn aba<const L: usize>(
                     let s = bufs.subspace[iv + k];
                     let u_col = ia.mul_motion(&s);
                     bufs.u_columns[iv + k] = u_col;
-                    let mut u = gather(tau, nv, iv + k, &idx) - s.dot(&pa);
+                    let mut u = bufs.tau[iv + k] - s.dot(&pa);
                     if data.has_joint_terms {
-                        let vk = gather(v, nv, iv + k, &idx);
+                        let vk = bufs.v[iv + k];
                         d[k][k] += Lanes::splat(data.armature[iv + k]);
                         u -= vk * data.damping[iv + k] + vk.map(sign) * data.friction[iv + k];
                     }
@@ -282,7 +298,7 @@ pub(crate) fn aba<const L: usize>(
             if ni == 1 {
                 let u_col = bufs.u_columns[iv];
                 let qdd = bufs.dinv[off] * (bufs.u[iv] - ai.dot(&u_col));
-                store(ddq, nv, start, count, iv, qdd);
+                bufs.ddq[iv] = qdd;
                 ai += bufs.subspace[iv].scale(qdd);
             } else {
                 let mut r = [Lanes::ZERO; 6];
@@ -295,33 +311,19 @@ pub(crate) fn aba<const L: usize>(
                     for l in 0..ni {
                         qdd += bufs.dinv[off + k * ni + l] * r[l];
                     }
-                    store(ddq, nv, start, count, iv + k, qdd);
+                    bufs.ddq[iv + k] = qdd;
                     da += bufs.subspace[iv + k].scale(qdd);
                 }
                 ai += da;
             }
             bufs.acceleration[i] = ai;
         }
+        io.store_coordinates(&bufs.ddq, nv, ddq, start, nv, count);
         for (l, &bad) in bad.iter().enumerate().take(count) {
             if bad {
                 let s = start + l;
                 ddq[s * nv..(s + 1) * nv].fill(f64::NAN);
             }
         }
-    }
-}
-
-/// Writes coordinate `at` of the block's first `count` states.
-#[inline(always)]
-fn store<const L: usize>(
-    out: &mut [f64],
-    nv: usize,
-    start: usize,
-    count: usize,
-    at: usize,
-    x: Lanes<L>,
-) {
-    for l in 0..count {
-        out[(start + l) * nv + at] = x.0[l];
     }
 }

@@ -8,6 +8,7 @@ use kinetree_kinematics::JointModel;
 use kinetree_kinematics::batch::{Io, block_states, body_transform, revolute_axis_transform};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::RotationForm;
+use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, LaneVec, Lanes};
 
 /// The largest `nv²` whose block of matrices is assembled in lanes and written through the
@@ -115,28 +116,49 @@ fn project_axis<const L: usize>(axis: (usize, bool), f: &LForce<L>) -> Lanes<L> 
     }
 }
 
-/// `Sᵀ·f` of any joint into `out[..nv]` (as [`JointModel::project_force`]): a floating joint's
-/// rows are the wrench itself, other kinds go lane by lane through the one-state kernel.
+/// `Sᵀ·f` of any joint into `out[..nv]`, as [`JointModel::project_force`] does it lane by lane
+/// (the same products and sums in the same order), in lane vectors for every kind but those
+/// without a degree of freedom.
 #[inline(always)]
-fn project_force<const L: usize>(jm: &JointModel, f: &LForce<L>, out: &mut [Lanes<L>; 6]) {
-    if let Some(axis) = jm.axis_index() {
-        out[0] = project_axis(axis, f);
-    } else if *jm == JointModel::Floating {
-        *out = [
-            f.linear.x,
-            f.linear.y,
-            f.linear.z,
-            f.angular.x,
-            f.angular.y,
-            f.angular.z,
-        ];
-    } else {
-        let mut col = [0.0; 6];
-        for l in 0..L {
-            jm.project_force(&f.lane(l), &mut col[..jm.nv()]);
-            for (o, c) in out.iter_mut().zip(&col) {
-                o.0[l] = *c;
-            }
+pub(crate) fn project_force<const L: usize>(
+    jm: &JointModel,
+    f: &LForce<L>,
+    out: &mut [Lanes<L>; 6],
+) {
+    let dot = |a: DVec3, x: &LVec3<L>| LVec3::splat(a).dot(x);
+    match *jm {
+        JointModel::Fixed => {}
+        JointModel::RevoluteX => out[0] = f.angular.x,
+        JointModel::RevoluteY => out[0] = f.angular.y,
+        JointModel::RevoluteZ => out[0] = f.angular.z,
+        JointModel::Revolute(a) => out[0] = dot(a, &f.angular),
+        JointModel::PrismaticX => out[0] = f.linear.x,
+        JointModel::PrismaticY => out[0] = f.linear.y,
+        JointModel::PrismaticZ => out[0] = f.linear.z,
+        JointModel::Prismatic(a) => out[0] = dot(a, &f.linear),
+        JointModel::Cylindrical(a) => {
+            out[0] = dot(a, &f.linear);
+            out[1] = dot(a, &f.angular);
+        }
+        JointModel::Spherical => {
+            out[0] = f.angular.x;
+            out[1] = f.angular.y;
+            out[2] = f.angular.z;
+        }
+        JointModel::Planar { u, w, n } => {
+            out[0] = dot(u, &f.linear);
+            out[1] = dot(w, &f.linear);
+            out[2] = dot(n, &f.angular);
+        }
+        JointModel::Floating => {
+            *out = [
+                f.linear.x,
+                f.linear.y,
+                f.linear.z,
+                f.angular.x,
+                f.angular.y,
+                f.angular.z,
+            ];
         }
     }
 }

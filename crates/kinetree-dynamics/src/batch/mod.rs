@@ -321,9 +321,10 @@ pub fn aba_batch(
     check_buffer("ddq", ddq.len(), n, nv)?;
     check_aba_states(model, &batch.data, n, q, v, tau)?;
     let data = &batch.data;
+    let io = Io::new(batch.simd);
     kinetree_kinematics::simd_dispatch!(
         batch.simd, BatchLanes, &mut batch.lanes4, &mut batch.lanes8, aba_kernel,
-        (model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, v: &[f64] = v,
+        (io: Io = io, model: &Model = model, data: &DynamicsData = data, q: &[f64] = q, v: &[f64] = v,
          tau: &[f64] = tau, n: usize = n, ddq: &mut [f64] = ddq) -> ()
     );
     // A vanished pivot or an overflow leaves a state's accelerations NaN: the one-state
@@ -353,6 +354,7 @@ pub fn aba_batch(
 )]
 fn aba_kernel<const L: usize>(
     bufs: &mut BatchLanes<L>,
+    io: Io,
     model: &Model,
     data: &DynamicsData,
     q: &[f64],
@@ -361,7 +363,7 @@ fn aba_kernel<const L: usize>(
     n: usize,
     ddq: &mut [f64],
 ) {
-    aba::aba(&mut bufs.aba, model, data, q, v, tau, n, ddq);
+    aba::aba(&mut bufs.aba, io, model, data, q, v, tau, n, ddq);
 }
 
 /// The joint-space mass matrices of `N` states: `mass_matrix` (`N · nv · nv`) receives, for

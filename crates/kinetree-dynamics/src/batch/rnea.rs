@@ -1,6 +1,7 @@
 //! The lane kernel of batched RNEA: the one-state sweep of `rnea.rs` over a block of `L`
 //! states at a time.
 
+use super::crba::project_force;
 use crate::data::{DynamicsData, sign};
 use crate::rnea::turns_about;
 use kinetree_kinematics::JointModel;
@@ -200,8 +201,10 @@ fn axis_body<const L: usize, const T: u8>(
     (vi, ai)
 }
 
-/// The joint velocity `S·v` of a block of states (`v` in lanes): a free joint's six lanes as
-/// they are, every other kind lane by lane with the one-state kernel.
+/// The joint velocity `S·v` of a block of states (`v` in lanes), as [`JointModel::motion`] does
+/// it lane by lane (the same products and sums in the same order): single-axis joints along a
+/// general axis (panda's fingers), cylindrical, spherical, planar and free joints in lane
+/// vectors; the axis-aligned kinds are handled by the callers.
 #[inline(always)]
 fn joint_motion<const L: usize>(
     jm: &JointModel,
@@ -209,29 +212,28 @@ fn joint_motion<const L: usize>(
     lanes: &[Lanes<L>],
 ) -> LMotion<L> {
     let x = &lanes[range];
-    if matches!(jm, JointModel::Floating) {
-        return LMotion {
-            linear: LVec3 {
-                x: x[0],
-                y: x[1],
-                z: x[2],
-            },
-            angular: LVec3 {
-                x: x[3],
-                y: x[4],
-                z: x[5],
-            },
-        };
-    }
-    let mut out = LMotion::ZERO;
-    let mut state = [0.0; 6];
-    for l in 0..L {
-        for (s, x) in state.iter_mut().zip(x) {
-            *s = x.0[l];
+    let axis = |a: DVec3, s: Lanes<L>| LVec3::splat(a).scale(s);
+    let vec = |x: Lanes<L>, y: Lanes<L>, z: Lanes<L>| LVec3 { x, y, z };
+    let motion = |linear, angular| LMotion { linear, angular };
+    match *jm {
+        JointModel::Revolute(a) => motion(LVec3::ZERO, axis(a, x[0])),
+        JointModel::Prismatic(a) => motion(axis(a, x[0]), LVec3::ZERO),
+        JointModel::Cylindrical(a) => motion(axis(a, x[0]), axis(a, x[1])),
+        JointModel::Spherical => motion(LVec3::ZERO, vec(x[0], x[1], x[2])),
+        JointModel::Planar { u, w, n } => motion(axis(u, x[0]) + axis(w, x[1]), axis(n, x[2])),
+        JointModel::Floating => motion(vec(x[0], x[1], x[2]), vec(x[3], x[4], x[5])),
+        _ => {
+            let mut out = LMotion::ZERO;
+            let mut state = [0.0; 6];
+            for l in 0..L {
+                for (s, x) in state.iter_mut().zip(x) {
+                    *s = x.0[l];
+                }
+                out.set_lane(l, &jm.motion(&state[..x.len()]));
+            }
+            out
         }
-        out.set_lane(l, &jm.motion(&state[..x.len()]));
     }
-    out
 }
 
 /// `*dst = *src`, one lane vector at a time. A whole-struct assignment of a transform held in a
@@ -353,13 +355,9 @@ pub(crate) fn rnea<const L: usize>(
                 Some((k, true)) => bufs.tau[b.idx_v] = fi.angular.get(k),
                 Some((k, false)) => bufs.tau[b.idx_v] = fi.linear.get(k),
                 None => {
-                    let mut out = [0.0; 6];
-                    for l in 0..L {
-                        jm.project_force(&fi.lane(l), &mut out[..b.nv]);
-                        for (k, x) in out[..b.nv].iter().enumerate() {
-                            bufs.tau[b.idx_v + k].0[l] = *x;
-                        }
-                    }
+                    let mut out = [Lanes::ZERO; 6];
+                    project_force(jm, &fi, &mut out);
+                    bufs.tau[b.idx_v..b.idx_v + b.nv].copy_from_slice(&out[..b.nv]);
                 }
             }
             if b.parent != 0 {
