@@ -27,6 +27,45 @@ pub(crate) struct LaneBuffers<const L: usize> {
     on_path: Vec<bool>,
     /// The runs of columns off the path, `[start, end)`.
     zero_runs: Vec<(usize, usize)>,
+    /// The frame's body and its ancestors, root first (the bodies the Jacobian places), each
+    /// with the range of its terms in `path_terms`.
+    path_bodies: Vec<(usize, core::ops::Range<usize>)>,
+    /// What each body on the path adds to which column, in the one-state function's order.
+    path_terms: Vec<PathTerm>,
+    /// Each term's world-frame column for the block, computed as its body is placed.
+    term_columns: LaneVec<LMotion<L>>,
+}
+
+/// One term of a Jacobian column, worked out once per call so the block loop neither matches
+/// on joint kinds nor reads the model.
+#[derive(Clone, Copy, Debug)]
+struct PathTerm {
+    /// The column it adds to.
+    column: usize,
+    /// 0–2: a turn about that coordinate axis; 3–5: a slide along axis `axis − 3`; otherwise
+    /// `motion`, the joint's subspace column.
+    axis: u8,
+    /// The subspace column of a joint on no coordinate axis.
+    motion: Motion,
+    /// A mimic follower's multiplier; 1 otherwise (a product by 1 changes no bit).
+    multiplier: f64,
+}
+
+impl PathTerm {
+    /// Term `k` of joint `jm` (as `compute_frame_jacobian`).
+    fn new(column: usize, jm: &JointModel, k: usize, multiplier: f64) -> Self {
+        let (axis, motion) = match jm.axis_index() {
+            Some((a, revolute)) => (if revolute { a } else { a + 3 }, Motion::ZERO),
+            None => (6, jm.subspace_column(k)),
+        };
+        Self {
+            column,
+            // An axis index is 0..3, so `axis` is at most 6.
+            axis: u8::try_from(axis).unwrap_or(6),
+            motion,
+            multiplier,
+        }
+    }
 }
 
 impl<const L: usize> LaneBuffers<L> {
@@ -39,6 +78,9 @@ impl<const L: usize> LaneBuffers<L> {
             path_columns: Vec::with_capacity(model.nv()),
             on_path: vec![false; model.nv()],
             zero_runs: Vec::with_capacity(model.nv() + 1),
+            path_bodies: Vec::with_capacity(model.nbodies()),
+            path_terms: Vec::with_capacity(model.nv() + model.nbodies()),
+            term_columns: LaneVec::new(LMotion::ZERO, model.nv() + model.nbodies()),
         }
     }
 }
@@ -61,23 +103,6 @@ pub(crate) struct Shape<'a> {
 fn body_sweep<const L: usize>(shape: &Shape<'_>, world: &mut LaneVec<LSe3<L>>, c: &InLanes<'_, L>) {
     for i in 1..shape.model.bodies().len() {
         place(shape, world, c, i);
-    }
-}
-
-/// The world placements of body `target` and its ancestors only (the sweep of
-/// `placements_to`): body `i` supports `target` exactly when `i <= target < subtree_end(i)`.
-#[inline(always)]
-fn body_sweep_to<const L: usize>(
-    shape: &Shape<'_>,
-    world: &mut LaneVec<LSe3<L>>,
-    c: &InLanes<'_, L>,
-    target: usize,
-) {
-    let bodies = shape.model.bodies();
-    for i in 1..=target.min(bodies.len() - 1) {
-        if bodies[i].subtree_end > target {
-            place(shape, world, c, i);
-        }
     }
 }
 
@@ -255,10 +280,11 @@ fn act_axis<const L: usize>(x: &LSe3<L>, k: usize, revolute: bool) -> LMotion<L>
 /// Column `k` of joint `jm`'s motion subspace moved by `x` (a world-frame Jacobian column when
 /// `x` is the body's world placement).
 #[inline(always)]
-fn column<const L: usize>(x: &LSe3<L>, jm: &JointModel, k: usize) -> LMotion<L> {
-    match jm.axis_index() {
-        Some((a, revolute)) => act_axis(x, a, revolute),
-        None => x.act_motion(&LMotion::splat(&jm.subspace_column(k))),
+fn column<const L: usize>(x: &LSe3<L>, term: &PathTerm) -> LMotion<L> {
+    match term.axis {
+        a @ 0..3 => act_axis(x, usize::from(a), true),
+        a @ 3..6 => act_axis(x, usize::from(a - 3), false),
+        _ => x.act_motion(&LMotion::splat(&term.motion)),
     }
 }
 
@@ -285,11 +311,19 @@ pub(crate) fn frame_jacobian<const L: usize>(
     // column is zero in every state, so only these are cleared and read from the lanes.
     bufs.on_path.fill(false);
     bufs.path_columns.clear();
+    bufs.path_bodies.clear();
+    bufs.path_terms.clear();
     let mut i = body;
     while i != 0 {
         let b = &bodies[i];
+        let jm = &shape.joint_models[i];
         let written = if b.mimic.is_some() { 1 } else { b.nv };
-        for c in b.idx_v..b.idx_v + written {
+        let first = bufs.path_terms.len();
+        bufs.path_bodies.push((i, first..first + written));
+        for k in 0..written {
+            let c = b.idx_v + k;
+            let multiplier = b.mimic.as_ref().map_or(1.0, |m| m.multiplier);
+            bufs.path_terms.push(PathTerm::new(c, jm, k, multiplier));
             if !bufs.on_path[c] {
                 bufs.on_path[c] = true;
                 bufs.path_columns.push(c);
@@ -297,6 +331,8 @@ pub(crate) fn frame_jacobian<const L: usize>(
         }
         i = b.parent;
     }
+    // Parents before children, as the one-state sweep (ancestors have smaller indices).
+    bufs.path_bodies.reverse();
     bufs.path_columns.sort_unstable();
     bufs.zero_runs.clear();
     let mut next = 0;
@@ -321,28 +357,25 @@ pub(crate) fn frame_jacobian<const L: usize>(
             states: Gathered { q, nq, idx },
         };
         let refused = first_refused(shape, &c, finite, start, count);
-        body_sweep_to(shape, &mut bufs.world_from_body, &c, body);
+        let mut probe = Lanes::ZERO;
+        // A body's terms are taken while its placement is at hand: read back later by a
+        // column index that varies, the placement's columns were gathered lane by lane.
+        for (i, terms) in &bufs.path_bodies {
+            place(shape, &mut bufs.world_from_body, &c, *i);
+            let x = bufs.world_from_body[*i];
+            probe += non_finite(&x.translation);
+            for t in terms.clone() {
+                bufs.term_columns[t] = column(&x, &bufs.path_terms[t]);
+            }
+        }
         let world_from_frame = bufs.world_from_body[body].mul_const(&body_from_frame);
         for &c in &bufs.path_columns {
             bufs.columns[c] = LMotion::ZERO;
         }
-        let mut probe = Lanes::ZERO;
-        let mut i = body;
-        while i != 0 {
-            let b = &bodies[i];
-            let x = &bufs.world_from_body[i];
-            probe += non_finite(&x.translation);
-            let jm = &shape.joint_models[i];
-            if let Some(m) = &b.mimic {
-                let col = to_reference(&world_from_frame, &column(x, jm, 0), reference);
-                bufs.columns[b.idx_v] += col.scale(Lanes::splat(m.multiplier));
-            } else {
-                for k in 0..b.nv {
-                    bufs.columns[b.idx_v + k] +=
-                        to_reference(&world_from_frame, &column(x, jm, k), reference);
-                }
-            }
-            i = b.parent;
+        for (t, term) in bufs.path_terms.iter().enumerate() {
+            bufs.columns[term.column] +=
+                to_reference(&world_from_frame, &bufs.term_columns[t], reference)
+                    .scale(Lanes::splat(term.multiplier));
         }
         // The runs of columns off the path are zero-filled whole, state by state; the path's
         // columns are moved out of the lanes column by column (a test of every column and six
