@@ -170,7 +170,43 @@ fn inv_motion<const L: usize, const T: u8>(x: &LSe3<L>, m: &LMotion<L>) -> LMoti
     clippy::too_many_arguments,
     reason = "one body's inputs, as rnea::body takes them"
 )]
-fn axis_body<const L: usize, const T: u8>(
+fn axis_body<const L: usize, const T: u8, const K: usize, const REV: bool>(
+    x: &LSe3<L>,
+    has_parent: bool,
+    parent_v: &LMotion<L>,
+    parent_a: &LMotion<L>,
+    qd: Lanes<L>,
+    qdd: Lanes<L>,
+) -> (LMotion<L>, LMotion<L>) {
+    let mut ai = inv_motion::<L, T>(x, parent_a);
+    if REV {
+        *ai.angular.get_mut(K) += qdd;
+    } else {
+        *ai.linear.get_mut(K) += qdd;
+    }
+    let mut vi = LMotion::ZERO;
+    if has_parent {
+        vi = inv_motion::<L, T>(x, parent_v);
+    }
+    if REV {
+        *vi.angular.get_mut(K) += qd;
+        add_cross_unit(&mut ai.linear, K, &vi.linear, qd);
+        add_cross_unit(&mut ai.angular, K, &vi.angular, qd);
+    } else {
+        *vi.linear.get_mut(K) += qd;
+        add_cross_unit(&mut ai.linear, K, &vi.angular, qd);
+    }
+    (vi, ai)
+}
+
+/// [`axis_body`] for the joint's axis `k` and kind (`revolute`) known only at run time: one
+/// branch per axis and kind, so that each body's arithmetic has its axis as a constant.
+#[inline(always)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one body's inputs, as rnea::body takes them"
+)]
+fn axis_body_of<const L: usize, const T: u8>(
     x: &LSe3<L>,
     k: usize,
     revolute: bool,
@@ -180,25 +216,15 @@ fn axis_body<const L: usize, const T: u8>(
     qd: Lanes<L>,
     qdd: Lanes<L>,
 ) -> (LMotion<L>, LMotion<L>) {
-    let mut ai = inv_motion::<L, T>(x, parent_a);
-    if revolute {
-        *ai.angular.get_mut(k) += qdd;
-    } else {
-        *ai.linear.get_mut(k) += qdd;
+    let (hp, pv, pa) = (has_parent, parent_v, parent_a);
+    match (k, revolute) {
+        (0, true) => axis_body::<L, T, 0, true>(x, hp, pv, pa, qd, qdd),
+        (1, true) => axis_body::<L, T, 1, true>(x, hp, pv, pa, qd, qdd),
+        (_, true) => axis_body::<L, T, 2, true>(x, hp, pv, pa, qd, qdd),
+        (0, false) => axis_body::<L, T, 0, false>(x, hp, pv, pa, qd, qdd),
+        (1, false) => axis_body::<L, T, 1, false>(x, hp, pv, pa, qd, qdd),
+        (_, false) => axis_body::<L, T, 2, false>(x, hp, pv, pa, qd, qdd),
     }
-    let mut vi = LMotion::ZERO;
-    if has_parent {
-        vi = inv_motion::<L, T>(x, parent_v);
-    }
-    if revolute {
-        *vi.angular.get_mut(k) += qd;
-        add_cross_unit(&mut ai.linear, k, &vi.linear, qd);
-        add_cross_unit(&mut ai.angular, k, &vi.angular, qd);
-    } else {
-        *vi.linear.get_mut(k) += qd;
-        add_cross_unit(&mut ai.linear, k, &vi.angular, qd);
-    }
-    (vi, ai)
 }
 
 /// The joint velocity `S·v` of a block of states (`v` in lanes), as [`JointModel::motion`] does
@@ -322,10 +348,10 @@ pub(crate) fn rnea<const L: usize>(
                     let (pv, pa) = (&parent_v, &parent_a);
                     let (t, hp) = (bufs.turn[i], p != 0);
                     match t {
-                        0 => axis_body::<L, 0>(&x, k, revolute, hp, pv, pa, qd, qdd),
-                        1 => axis_body::<L, 1>(&x, k, revolute, hp, pv, pa, qd, qdd),
-                        2 => axis_body::<L, 2>(&x, k, revolute, hp, pv, pa, qd, qdd),
-                        _ => axis_body::<L, 3>(&x, k, revolute, hp, pv, pa, qd, qdd),
+                        0 => axis_body_of::<L, 0>(&x, k, revolute, hp, pv, pa, qd, qdd),
+                        1 => axis_body_of::<L, 1>(&x, k, revolute, hp, pv, pa, qd, qdd),
+                        2 => axis_body_of::<L, 2>(&x, k, revolute, hp, pv, pa, qd, qdd),
+                        _ => axis_body_of::<L, 3>(&x, k, revolute, hp, pv, pa, qd, qdd),
                     }
                 }
                 None => {
