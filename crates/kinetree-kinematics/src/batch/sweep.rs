@@ -277,8 +277,8 @@ fn act_axis<const L: usize>(x: &LSe3<L>, k: usize, revolute: bool) -> LMotion<L>
     }
 }
 
-/// Column `k` of joint `jm`'s motion subspace moved by `x` (a world-frame Jacobian column when
-/// `x` is the body's world placement).
+/// The subspace column of `term` moved by `x` (a world-frame Jacobian column when `x` is the
+/// body's world placement).
 #[inline(always)]
 fn column<const L: usize>(x: &LSe3<L>, term: &PathTerm) -> LMotion<L> {
     match term.axis {
