@@ -248,6 +248,42 @@ pub fn frame_jacobian_batch(
     })
 }
 
+/// [`kinematics::batch::frame_jacobian_rows_batch`](kb::frame_jacobian_rows_batch) on every
+/// core.
+///
+/// # Errors
+/// As the one-core function; a bad state is reported with its index in the whole batch.
+pub fn frame_jacobian_rows_batch(
+    model: &Model,
+    pool: &mut Parallel<KinematicsBatch>,
+    q: &[f64],
+    frame: FrameId,
+    reference: ReferenceFrame,
+    out: &mut [f64],
+) -> Result<(), KinematicsError> {
+    let (nq, nv) = (model.nq(), model.nv());
+    let n = if nq > 0 {
+        kb::batch_size("q", q.len(), nq)?
+    } else {
+        kb::batch_size("jacobian", out.len(), 6 * nv)?
+    };
+    if out.len() != n * 6 * nv || q.len() != n * nq {
+        return kb::frame_jacobian_rows_batch(
+            model,
+            &mut pool.workers[0],
+            q,
+            frame,
+            reference,
+            out,
+        );
+    }
+    let parts = (In(q, nq), Out(out, 6 * nv));
+    run(&mut pool.workers, n, 0, parts, &|w, (q, o), first| {
+        kb::frame_jacobian_rows_batch(model, w, q.0, frame, reference, o.0)
+            .map_err(|e| shift_kinematics(e, first))
+    })
+}
+
 #[cfg(feature = "dynamics")]
 pub use dynamics::{
     aba_batch, aba_derivatives_batch, crba_batch, rnea_batch, rnea_derivatives_batch,

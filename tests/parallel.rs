@@ -69,6 +69,23 @@ fn every_split_gives_the_one_core_numbers() {
             par::frame_jacobian_batch(&model, &mut pk, &q, frame, ReferenceFrame::Local, &mut pj)
                 .unwrap();
             assert_eq!(pj, jac, "{file}: {threads} blocks");
+            let mut pr = vec![f64::NAN; n * 6 * nv];
+            par::frame_jacobian_rows_batch(
+                &model,
+                &mut pk,
+                &q,
+                frame,
+                ReferenceFrame::Local,
+                &mut pr,
+            )
+            .unwrap();
+            for (k, state) in pr.chunks_exact(6 * nv).enumerate() {
+                for (c, col) in jac[k * nv..(k + 1) * nv].iter().enumerate() {
+                    for (r, x) in col.to_array().into_iter().enumerate() {
+                        assert_eq!(state[r * nv + c], x, "{file}: {threads} blocks, rows");
+                    }
+                }
+            }
             let mut pd = Parallel::<DynamicsBatch>::with_threads(&model, threads);
             let mut out = vec![0.0; n * nv];
             par::rnea_batch(&model, &mut pd, &q, &v, &a, &mut out).unwrap();

@@ -6,7 +6,7 @@ use crate::errors::Family;
 use crate::model::PyModel;
 use crate::scratch::KinematicsBlock;
 use kinetree::dynamics::DynamicsData;
-use kinetree::kinematics::batch::{forward_kinematics_batch, frame_jacobian_batch};
+use kinetree::kinematics::batch::{forward_kinematics_batch, frame_jacobian_rows_batch};
 use kinetree::kinematics::spatial::{Motion, Se3};
 use kinetree::kinematics::{
     FrameId, ReferenceFrame, change_reference, compute_frame_jacobian,
@@ -339,17 +339,9 @@ impl PyModel {
             out,
             f,
             one,
-            |b: &mut KinematicsBlock, n, x, out| {
-                let (batch, cols) = b.columns(n * nv);
-                frame_jacobian_batch(&self.model, batch, x[0], frame, reference, cols)
-                    .map_err(|e| in_block(e.into()))?;
-                if nv == 0 {
-                    return Ok(());
-                }
-                for (c, o) in cols.chunks_exact(nv).zip(out.chunks_exact_mut(6 * nv)) {
-                    write_columns(c, o);
-                }
-                Ok(())
+            |b: &mut KinematicsBlock, _, x, out| {
+                frame_jacobian_rows_batch(&self.model, &mut b.batch, x[0], frame, reference, out)
+                    .map_err(|e| in_block(e.into()))
             },
         )
     }

@@ -7,7 +7,7 @@ use crate::model::PyModel;
 use kinetree::dynamics::batch::{DerivativesBatch, DynamicsBatch};
 use kinetree::dynamics::{DerivativesData, DynamicsData, JointTerms};
 use kinetree::kinematics::batch::KinematicsBatch;
-use kinetree::kinematics::spatial::{Motion, Se3};
+use kinetree::kinematics::spatial::Se3;
 use kinetree::model::Model;
 use std::sync::{Mutex, PoisonError};
 
@@ -94,16 +94,14 @@ impl Scratch for DerivativesBatch {
     }
 }
 
-/// The workspace of the batched kinematics, with room for a block's placements or Jacobian
-/// columns before they are written out as numpy rows.
+/// The workspace of the batched kinematics, with room for a block's placements before they are
+/// written out as numpy arrays (the Jacobians are written straight into numpy's rows).
 #[derive(Debug)]
 pub(crate) struct KinematicsBlock {
     /// The batched kernels' buffers.
     pub(crate) batch: KinematicsBatch,
     /// Link placements of a block of states.
     pub(crate) poses: Vec<Se3>,
-    /// Jacobian columns of a block of states.
-    pub(crate) columns: Vec<Motion>,
 }
 
 impl KinematicsBlock {
@@ -115,15 +113,6 @@ impl KinematicsBlock {
         }
         (&mut self.batch, &mut self.poses[..n])
     }
-
-    /// The kernels' buffers and the first `n` Jacobian columns, grown as
-    /// [`poses`](Self::poses).
-    pub(crate) fn columns(&mut self, n: usize) -> (&mut KinematicsBatch, &mut [Motion]) {
-        if self.columns.len() < n {
-            self.columns.resize(n, Motion::ZERO);
-        }
-        (&mut self.batch, &mut self.columns[..n])
-    }
 }
 
 impl Scratch for KinematicsBlock {
@@ -131,7 +120,6 @@ impl Scratch for KinematicsBlock {
         let fresh = || KinematicsBlock {
             batch: KinematicsBatch::new(&model.model),
             poses: Vec::new(),
-            columns: Vec::new(),
         };
         model.kinematics_batch_pool.with(fresh, f)
     }

@@ -6,6 +6,7 @@ use crate::common::{all_models, stacked_states as states};
 use kinetree_dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
 use kinetree_dynamics::kinematics::batch::{
     KinematicsBatch, Simd, forward_kinematics_batch, frame_jacobian_batch,
+    frame_jacobian_rows_batch,
 };
 use kinetree_dynamics::kinematics::{
     KinematicsData, KinematicsError, compute_frame_jacobian, forward_kinematics,
@@ -110,6 +111,12 @@ fn batched_kinematics_equals_the_one_state_path() {
                         let mut jac = vec![Motion::ZERO; n * nv];
                         frame_jacobian_batch(&model, &mut batch, &q, frame, reference, &mut jac)
                             .unwrap();
+                        // NaN where the rows form would leave a number unwritten.
+                        let mut rows = vec![f64::NAN; n * 6 * nv];
+                        frame_jacobian_rows_batch(
+                            &model, &mut batch, &q, frame, reference, &mut rows,
+                        )
+                        .unwrap();
                         for k in 0..n {
                             let qk = &q[k * nq..(k + 1) * nq];
                             compute_frame_jacobian(
@@ -126,6 +133,17 @@ fn batched_kinematics_equals_the_one_state_path() {
                                 &motion_numbers(&column),
                                 &format!(
                                     "{name} {simd:?} n={n} state {k} jacobian {frame:?} {reference:?}"
+                                ),
+                            );
+                            // Row r of the matrix is component r of every column.
+                            let transposed: Vec<f64> = (0..6)
+                                .flat_map(|r| column.iter().map(move |c| c.to_array()[r]))
+                                .collect();
+                            assert_exact(
+                                &rows[k * 6 * nv..(k + 1) * 6 * nv],
+                                &transposed,
+                                &format!(
+                                    "{name} {simd:?} n={n} state {k} jacobian rows {frame:?} {reference:?}"
                                 ),
                             );
                         }
@@ -257,6 +275,41 @@ fn a_bad_state_is_named_by_its_index_and_bad_lengths_are_errors() {
     let err = forward_kinematics_batch(&model, &mut batch, &q, &mut links, None).unwrap_err();
     assert!(
         matches!(&err, KinematicsError::InBatchState { index: 6, source } if matches!(**source, KinematicsError::NonFinite { what: "q", index: 0 })),
+        "{err:?}"
+    );
+    // The Jacobian's rows form names the same state, and a buffer of columns' length is refused.
+    let mut rows = vec![0.0; n * 6 * nv];
+    let last = FrameId::Link(model.links().len() - 1);
+    let err = frame_jacobian_rows_batch(
+        &model,
+        &mut batch,
+        &q,
+        last,
+        ReferenceFrame::World,
+        &mut rows,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&err, KinematicsError::InBatchState { index: 6, source } if matches!(**source, KinematicsError::NonFinite { what: "q", index: 0 })),
+        "{err:?}"
+    );
+    let err = frame_jacobian_rows_batch(
+        &model,
+        &mut batch,
+        &q,
+        last,
+        ReferenceFrame::World,
+        &mut rows[..n * nv],
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            KinematicsError::DimensionMismatch {
+                what: "jacobian",
+                ..
+            }
+        ),
         "{err:?}"
     );
     let mut dynamics = DynamicsBatch::new(&model);

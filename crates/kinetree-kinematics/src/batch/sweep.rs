@@ -34,6 +34,19 @@ pub(crate) struct LaneBuffers<const L: usize> {
     path_terms: Vec<PathTerm>,
     /// Each term's world-frame column for the block, computed as its body is placed.
     term_columns: LaneVec<LMotion<L>>,
+    /// For [`JacobianOut::Rows`]: the block's Jacobians as 6 rows of `nv` columns (each row
+    /// rounded up to 8 for `Io::store_coordinates`); the columns off the path stay zero.
+    rows: Vec<Lanes<L>>,
+}
+
+/// Where a batched Jacobian goes.
+#[derive(Debug)]
+pub(crate) enum JacobianOut<'a> {
+    /// `nv` columns per state (`n · nv` motions).
+    Columns(&'a mut [Motion]),
+    /// A row-major `6 x nv` matrix per state (`n · 6 · nv` numbers), rows in `Motion`'s order
+    /// (linear, then angular).
+    Rows(&'a mut [f64]),
 }
 
 /// One term of a Jacobian column, worked out once per call so the block loop neither matches
@@ -81,6 +94,7 @@ impl<const L: usize> LaneBuffers<L> {
             path_bodies: Vec::with_capacity(model.nbodies()),
             path_terms: Vec::with_capacity(model.nv() + model.nbodies()),
             term_columns: LaneVec::new(LMotion::ZERO, model.nv() + model.nbodies()),
+            rows: vec![Lanes::ZERO; 6 * model.nv().next_multiple_of(8)],
         }
     }
 }
@@ -288,8 +302,8 @@ fn column<const L: usize>(x: &LSe3<L>, term: &PathTerm) -> LMotion<L> {
     }
 }
 
-/// The Jacobian of `frame` in `reference` for the `n` states of `q`, into `out` (`n · nv`
-/// columns; inputs checked by the caller), as `compute_frame_jacobian`, which places only the
+/// The Jacobian of `frame` in `reference` for the `n` states of `q`, into `out` (inputs checked
+/// by the caller), as `compute_frame_jacobian`, which places only the
 /// frame's body and its ancestors. Returns the first state whose configuration the one-state
 /// function refuses or with a placement on that path or a
 /// column that is not finite.
@@ -301,10 +315,11 @@ pub(crate) fn frame_jacobian<const L: usize>(
     n: usize,
     body_and_placement: (usize, Se3),
     reference: ReferenceFrame,
-    out: &mut [Motion],
+    mut out: JacobianOut<'_>,
 ) -> Option<usize> {
     let model = shape.model;
     let (nq, nv) = (model.nq(), model.nv());
+    let nvp = nv.next_multiple_of(8);
     let bodies = model.bodies();
     let (body, body_from_frame) = body_and_placement;
     // The columns the path writes (a coupled mimic follower writes its leader's); every other
@@ -345,6 +360,10 @@ pub(crate) fn frame_jacobian<const L: usize>(
     if next < nv {
         bufs.zero_runs.push((next, nv));
     }
+    if matches!(out, JacobianOut::Rows(_)) {
+        // Left zero for the columns off this call's path (a previous call's may have differed).
+        bufs.rows.fill(Lanes::ZERO);
+    }
     let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
@@ -377,19 +396,50 @@ pub(crate) fn frame_jacobian<const L: usize>(
                 to_reference(&world_from_frame, &bufs.term_columns[t], reference)
                     .scale(Lanes::splat(term.multiplier));
         }
-        // The runs of columns off the path are zero-filled whole, state by state; the path's
-        // columns are moved out of the lanes column by column (a test of every column and six
-        // single stores each made this copy half of the batch's time on talos_full_v2).
-        for k in 0..count {
-            let row = &mut out[(start + k) * nv..(start + k + 1) * nv];
-            for &(a, b) in &bufs.zero_runs {
-                shape.io.zero_motions(&mut row[a..b]);
-            }
-        }
         for &c in &bufs.path_columns {
             let col = &bufs.columns[c];
             probe += non_finite(&col.linear) + non_finite(&col.angular);
-            shape.io.store_motions(col, out, start * nv + c, nv, count);
+        }
+        match &mut out {
+            JacobianOut::Columns(out) => {
+                // The runs of columns off the path are zero-filled whole, state by state; the
+                // path's columns are moved out of the lanes column by column (a test of every
+                // column and six single stores each made this copy half of the batch's time on
+                // talos_full_v2).
+                for k in 0..count {
+                    let row = &mut out[(start + k) * nv..(start + k + 1) * nv];
+                    for &(a, b) in &bufs.zero_runs {
+                        shape.io.zero_motions(&mut row[a..b]);
+                    }
+                }
+                for &c in &bufs.path_columns {
+                    shape
+                        .io
+                        .store_motions(&bufs.columns[c], out, start * nv + c, nv, count);
+                }
+            }
+            JacobianOut::Rows(out) if nv > 0 => {
+                // The path's columns into the rows, then each row of every state out through
+                // the transposes: each state's matrix is written once, in order, zeros and all.
+                for &c in &bufs.path_columns {
+                    let col = &bufs.columns[c];
+                    let (a, b) = (&col.linear, &col.angular);
+                    for (r, x) in [a.x, a.y, a.z, b.x, b.y, b.z].into_iter().enumerate() {
+                        bufs.rows[r * nvp + c] = x;
+                    }
+                }
+                for r in 0..6 {
+                    shape.io.store_coordinates(
+                        &bufs.rows[r * nvp..(r + 1) * nvp],
+                        nv,
+                        &mut out[(6 * start + r) * nv..],
+                        0,
+                        6 * nv,
+                        count,
+                    );
+                }
+            }
+            JacobianOut::Rows(_) => {}
         }
         if bad.is_none() {
             bad = earliest(refused, first_flagged(probe, start, count));
