@@ -130,14 +130,9 @@ impl<const L: usize> LRotation<L> {
     fn apply(&self, v: &LVec3<L>) -> LVec3<L> {
         match *self {
             Self::Identity => *v,
-            Self::Axis { k, s, c } => {
-                let (i, j, _) = axis_indices(k);
-                let (vi, vj) = (v.get(i), v.get(j));
-                let mut out = *v;
-                *out.get_mut(i) = c * vi - s * vj;
-                *out.get_mut(j) = s * vi + c * vj;
-                out
-            }
+            Self::Axis { k: 0, s, c } => axis_apply::<L, 0>(s, c, v),
+            Self::Axis { k: 1, s, c } => axis_apply::<L, 1>(s, c, v),
+            Self::Axis { s, c, .. } => axis_apply::<L, 2>(s, c, v),
             Self::General(r) => r.mul_vec(v),
         }
     }
@@ -147,22 +142,46 @@ impl<const L: usize> LRotation<L> {
     fn apply_sym(&self, m: &LSym3<L>) -> LSym3<L> {
         match *self {
             Self::Identity => *m,
-            Self::Axis { k, s, c } => {
-                let (i, j, kk) = axis_indices(k);
-                let (a, b, d) = (m.get(i, i), m.get(i, j), m.get(j, j));
-                let (ik, jk) = (m.get(i, kk), m.get(j, kk));
-                let (cc, ss, cs) = (c * c, s * s, c * s);
-                let mut out = *m;
-                out.set(i, i, cc * a - cs * 2.0 * b + ss * d);
-                out.set(j, j, ss * a + cs * 2.0 * b + cc * d);
-                out.set(i, j, cs * (a - d) + (cc - ss) * b);
-                out.set(i, kk, c * ik - s * jk);
-                out.set(j, kk, s * ik + c * jk);
-                out
-            }
+            Self::Axis { k: 0, s, c } => axis_apply_sym::<L, 0>(s, c, m),
+            Self::Axis { k: 1, s, c } => axis_apply_sym::<L, 1>(s, c, m),
+            Self::Axis { s, c, .. } => axis_apply_sym::<L, 2>(s, c, m),
             Self::General(r) => m.rotate(&r),
         }
     }
+}
+
+/// A rotation about coordinate axis `K` (sines `s`, cosines `c`) applied to `v`, as
+/// [`RotationForm::apply`]. The axis is a constant, so that the entries stay in registers: with
+/// the axis known only at run time they were read and written through memory.
+#[inline(always)]
+fn axis_apply<const L: usize, const K: usize>(s: Lanes<L>, c: Lanes<L>, v: &LVec3<L>) -> LVec3<L> {
+    let (i, j, _) = axis_indices(K);
+    let (vi, vj) = (v.get(i), v.get(j));
+    let mut out = *v;
+    *out.get_mut(i) = c * vi - s * vj;
+    *out.get_mut(j) = s * vi + c * vj;
+    out
+}
+
+/// A rotation about coordinate axis `K` applied to a symmetric matrix, as
+/// [`RotationForm::apply_sym`] (see [`axis_apply`]).
+#[inline(always)]
+fn axis_apply_sym<const L: usize, const K: usize>(
+    s: Lanes<L>,
+    c: Lanes<L>,
+    m: &LSym3<L>,
+) -> LSym3<L> {
+    let (i, j, kk) = axis_indices(K);
+    let (a, b, d) = (m.get(i, i), m.get(i, j), m.get(j, j));
+    let (ik, jk) = (m.get(i, kk), m.get(j, kk));
+    let (cc, ss, cs) = (c * c, s * s, c * s);
+    let mut out = *m;
+    out.set(i, i, cc * a - cs * 2.0 * b + ss * d);
+    out.set(j, j, ss * a + cs * 2.0 * b + cc * d);
+    out.set(i, j, cs * (a - d) + (cc - ss) * b);
+    out.set(i, kk, c * ik - s * jk);
+    out.set(j, kk, s * ik + c * jk);
+    out
 }
 
 /// A spatial inertia about the frame origin per lane (the lane form of [`OriginInertia`]).

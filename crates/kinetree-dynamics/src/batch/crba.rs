@@ -3,6 +3,7 @@
 //! one-state result bit for bit.
 
 use super::composite::{LOrigin, LRotation};
+use super::rnea::copy_se3;
 use crate::data::{AncestorStep, DynamicsData};
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::batch::{Io, block_states, body_transform, revolute_axis_transform};
@@ -107,12 +108,47 @@ fn component<const L: usize>(f: &LForce<L>, c: u8) -> Lanes<L> {
     }
 }
 
-/// `Sᵀ·f` of an axis-aligned joint (as [`JointModel::project_axis`]).
+/// `Sᵀ·f` of a joint about (`REV`) or along coordinate axis `K` (as
+/// [`JointModel::project_axis`]).
 #[inline(always)]
-fn project_axis<const L: usize>(axis: (usize, bool), f: &LForce<L>) -> Lanes<L> {
-    match axis {
-        (k, true) => f.angular.get(k),
-        (k, false) => f.linear.get(k),
+fn project_axis<const L: usize, const K: usize, const REV: bool>(f: &LForce<L>) -> Lanes<L> {
+    if REV {
+        f.angular.get(K)
+    } else {
+        f.linear.get(K)
+    }
+}
+
+/// Component `C` (`[linear; angular]` order) of `x.act_force(f)`, without the other five (as
+/// `crba::axis_component`, bit for bit).
+#[inline(always)]
+fn axis_component<const L: usize, const C: u8>(x: &LSe3<L>, f: &LForce<L>) -> Lanes<L> {
+    let r = &x.rotation;
+    let row = |i: usize, v: &LVec3<L>| {
+        r.x_axis.get(i) * v.x + r.y_axis.get(i) * v.y + r.z_axis.get(i) * v.z
+    };
+    if C < 3 {
+        return row(usize::from(C), &f.linear);
+    }
+    let t = &x.translation;
+    let cross = match C - 3 {
+        0 => t.y * row(2, &f.linear) - row(1, &f.linear) * t.z,
+        1 => t.z * row(0, &f.linear) - row(2, &f.linear) * t.x,
+        _ => t.x * row(1, &f.linear) - row(0, &f.linear) * t.y,
+    };
+    row(usize::from(C - 3), &f.angular) + cross
+}
+
+/// [`axis_component`] for a component known at run time (`c < 6`).
+#[inline(always)]
+fn axis_component_of<const L: usize>(x: &LSe3<L>, f: &LForce<L>, c: u8) -> Lanes<L> {
+    match c {
+        0 => axis_component::<L, 0>(x, f),
+        1 => axis_component::<L, 1>(x, f),
+        2 => axis_component::<L, 2>(x, f),
+        3 => axis_component::<L, 3>(x, f),
+        4 => axis_component::<L, 4>(x, f),
+        _ => axis_component::<L, 5>(x, f),
     }
 }
 
@@ -163,14 +199,18 @@ pub(crate) fn project_force<const L: usize>(
     }
 }
 
-/// `I·S` of an axis-aligned joint's subspace `e_k` (as `JointModel::axis_momentum`).
+/// `I·S` of a joint about (`REV`) or along coordinate axis `K` (as
+/// `JointModel::axis_momentum`), and its diagonal entry `Sᵀ·I·S`. The axis is a constant so
+/// that the inertia's entries stay in registers.
 #[inline(always)]
-fn axis_momentum<const L: usize>(axis: (usize, bool), y: &LOrigin<L>) -> LForce<L> {
-    // unit_cross::<K>(h): e_K-free cross product of h with the unit vector e_K, as
+fn axis_momentum<const L: usize, const K: usize, const REV: bool>(
+    y: &LOrigin<L>,
+) -> (LForce<L>, Lanes<L>) {
+    // e_K-free cross product of h with the unit vector e_K, as
     // `kinetree_spatial::axis::unit_cross`.
     let h = &y.h;
     let z = Lanes::ZERO;
-    let cross = match axis.0 {
+    let cross = match K {
         0 => LVec3 {
             x: z,
             y: -h.z,
@@ -183,9 +223,9 @@ fn axis_momentum<const L: usize>(axis: (usize, bool), y: &LOrigin<L>) -> LForce<
         },
         _ => LVec3 { x: -h.y, y: h.x, z },
     };
-    if axis.1 {
+    let f = if REV {
         let i = &y.i;
-        let angular = match axis.0 {
+        let angular = match K {
             0 => LVec3 {
                 x: i.xx,
                 y: i.xy,
@@ -208,11 +248,26 @@ fn axis_momentum<const L: usize>(axis: (usize, bool), y: &LOrigin<L>) -> LForce<
         }
     } else {
         let mut linear = LVec3::ZERO;
-        *linear.get_mut(axis.0) = y.m;
+        *linear.get_mut(K) = y.m;
         LForce {
             linear,
             angular: -cross,
         }
+    };
+    let d = project_axis::<L, K, REV>(&f);
+    (f, d)
+}
+
+/// [`axis_momentum`] for an axis known at run time.
+#[inline(always)]
+fn axis_momentum_of<const L: usize>(axis: (usize, bool), y: &LOrigin<L>) -> (LForce<L>, Lanes<L>) {
+    match axis {
+        (0, true) => axis_momentum::<L, 0, true>(y),
+        (1, true) => axis_momentum::<L, 1, true>(y),
+        (_, true) => axis_momentum::<L, 2, true>(y),
+        (0, false) => axis_momentum::<L, 0, false>(y),
+        (1, false) => axis_momentum::<L, 1, false>(y),
+        (_, false) => axis_momentum::<L, 2, false>(y),
     }
 }
 
@@ -267,13 +322,15 @@ pub(crate) fn crba<const L: usize>(
         for i in 1..bodies.len() {
             let b = &bodies[i];
             let jm = &joint_models[i];
-            (bufs.parent_from_body[i], bufs.joint_rot[i]) = match jm.axis_index() {
+            let (x, rot) = match jm.axis_index() {
                 Some((k, true)) => {
                     let (x, s, c) = revolute_axis_transform(k, b, q, nq, &idx);
                     (x, LRotation::Axis { k, s, c })
                 }
                 _ => (body_transform(jm, b, q, nq, &idx), LRotation::Identity),
             };
+            copy_se3(&mut bufs.parent_from_body[i], &x);
+            bufs.joint_rot[i] = rot;
             bufs.composite[i] = LOrigin::splat(&data.body_inertia[i]);
         }
         let m = &mut bufs.entries;
@@ -288,8 +345,11 @@ pub(crate) fn crba<const L: usize>(
             let ic = bufs.composite[i];
             let jm = &joint_models[i];
             let axis = jm.axis_index();
-            let f0 = match axis {
-                Some(axis) => axis_momentum(axis, &ic),
+            let (f0, diagonal) = match axis {
+                Some(axis) => {
+                    let (f0, d) = axis_momentum_of(axis, &ic);
+                    (f0, Some(d))
+                }
                 None => {
                     for k in 0..ni {
                         f[k] = ic.mul_motion(&LMotion::splat(&jm.subspace_column(k)));
@@ -302,13 +362,12 @@ pub(crate) fn crba<const L: usize>(
                             w += 1;
                         }
                     }
-                    f[0]
+                    (f[0], None)
                 }
             };
             if ni == 1 {
                 let mut fk = f0;
-                if let Some(axis) = axis {
-                    let d = project_axis(axis, &fk);
+                if let Some(d) = diagonal {
                     probe += d;
                     m[w] = d;
                     w += 1;
@@ -317,6 +376,14 @@ pub(crate) fn crba<const L: usize>(
                 loop {
                     let step = steps[j];
                     if step.parent == 0 {
+                        break;
+                    }
+                    if step.last {
+                        // The root-most entry: one component of the moved force.
+                        let x = axis_component_of(&bufs.parent_from_body[j], &fk, step.kind);
+                        probe += x;
+                        m[w] = x;
+                        w += 1;
                         break;
                     }
                     fk = bufs.parent_from_body[j].act_force(&fk);
