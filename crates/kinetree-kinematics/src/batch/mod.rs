@@ -266,19 +266,7 @@ pub fn frame_jacobian_batch(
     reference: ReferenceFrame,
     out: &mut [Motion],
 ) -> Result<(), KinematicsError> {
-    batch.data.check_model(model)?;
-    frame.check(model)?;
-    let nv = model.nv();
-    let n = states(model, q, "jacobian", out.len(), nv)?;
-    jacobian(
-        model,
-        batch,
-        q,
-        n,
-        frame,
-        reference,
-        JacobianOut::Columns(out),
-    )
+    jacobian(model, batch, q, frame, reference, JacobianOut::Columns(out))
 }
 
 /// The Jacobian of one link or frame in `N` states, as row-major `6 x nv` matrices (the layout of
@@ -317,23 +305,22 @@ pub fn frame_jacobian_rows_batch(
     reference: ReferenceFrame,
     out: &mut [f64],
 ) -> Result<(), KinematicsError> {
-    batch.data.check_model(model)?;
-    frame.check(model)?;
-    let nv = model.nv();
-    let n = states(model, q, "jacobian", out.len(), 6 * nv)?;
-    jacobian(model, batch, q, n, frame, reference, JacobianOut::Rows(out))
+    jacobian(model, batch, q, frame, reference, JacobianOut::Rows(out))
 }
 
-/// The batched Jacobian of `n` states into `out`, lengths checked.
+/// The batched Jacobian of the states of `q` into `out`, in either layout.
 fn jacobian(
     model: &Model,
     batch: &mut KinematicsBatch,
     q: &[f64],
-    n: usize,
     frame: FrameId,
     reference: ReferenceFrame,
     out: JacobianOut<'_>,
 ) -> Result<(), KinematicsError> {
+    batch.data.check_model(model)?;
+    frame.check(model)?;
+    let (len, per_state) = out.shape(model.nv());
+    let n = states(model, q, "jacobian", len, per_state)?;
     let target = frame.body(model)?;
     let shape = Shape {
         model,

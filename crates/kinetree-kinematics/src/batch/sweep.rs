@@ -49,6 +49,16 @@ pub(crate) enum JacobianOut<'a> {
     Rows(&'a mut [f64]),
 }
 
+impl JacobianOut<'_> {
+    /// The buffer's length and how much of it each state takes, for a model of `nv` velocities.
+    pub(crate) fn shape(&self, nv: usize) -> (usize, usize) {
+        match self {
+            Self::Columns(out) => (out.len(), nv),
+            Self::Rows(out) => (out.len(), 6 * nv),
+        }
+    }
+}
+
 /// One term of a Jacobian column, worked out once per call so the block loop neither matches
 /// on joint kinds nor reads the model.
 #[derive(Clone, Copy, Debug)]
@@ -303,10 +313,9 @@ fn column<const L: usize>(x: &LSe3<L>, term: &PathTerm) -> LMotion<L> {
 }
 
 /// The Jacobian of `frame` in `reference` for the `n` states of `q`, into `out` (inputs checked
-/// by the caller), as `compute_frame_jacobian`, which places only the
-/// frame's body and its ancestors. Returns the first state whose configuration the one-state
-/// function refuses or with a placement on that path or a
-/// column that is not finite.
+/// by the caller), as `compute_frame_jacobian`, which places only the frame's body and its
+/// ancestors. Returns the first state whose configuration the one-state function refuses or
+/// with a placement on that path or a column that is not finite.
 #[inline(always)]
 pub(crate) fn frame_jacobian<const L: usize>(
     bufs: &mut LaneBuffers<L>,
