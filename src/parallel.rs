@@ -220,6 +220,37 @@ pub fn forward_kinematics_batch(
     })
 }
 
+/// [`kinematics::batch::forward_kinematics_matrices_batch`](kb::forward_kinematics_matrices_batch)
+/// on every core.
+///
+/// # Errors
+/// As the one-core function; a bad state is reported with its index in the whole batch.
+pub fn forward_kinematics_matrices_batch(
+    model: &Model,
+    pool: &mut Parallel<KinematicsBatch>,
+    q: &[f64],
+    links: Option<&[usize]>,
+    out: &mut [f64],
+) -> Result<(), KinematicsError> {
+    let nq = model.nq();
+    let per_state = 16 * links.map_or(model.links().len(), <[usize]>::len);
+    let n = if nq > 0 {
+        kb::batch_size("q", q.len(), nq)?
+    } else {
+        kb::batch_size("matrices", out.len(), per_state)?
+    };
+    // The one-core function checks every length and link; here only the block split needs the
+    // lengths to agree.
+    if out.len() != n * per_state || q.len() != n * nq || per_state == 0 {
+        return kb::forward_kinematics_matrices_batch(model, &mut pool.workers[0], q, links, out);
+    }
+    let parts = (In(q, nq), Out(out, per_state));
+    run(&mut pool.workers, n, 0, parts, &|w, (q, o), first| {
+        kb::forward_kinematics_matrices_batch(model, w, q.0, links, o.0)
+            .map_err(|e| shift_kinematics(e, first))
+    })
+}
+
 /// [`kinematics::batch::frame_jacobian_batch`](kb::frame_jacobian_batch) on every core.
 ///
 /// # Errors

@@ -65,6 +65,26 @@ fn every_split_gives_the_one_core_numbers() {
             let mut pl = vec![Se3::IDENTITY; n * nl];
             par::forward_kinematics_batch(&model, &mut pk, &q, &mut pl, None).unwrap();
             assert_eq!(pl, links, "{file}: {threads} blocks");
+            // The matrices of the last link and the root: the placements' numbers, in rows.
+            let mut pm = vec![f64::NAN; n * 2 * 16];
+            par::forward_kinematics_matrices_batch(
+                &model,
+                &mut pk,
+                &q,
+                Some(&[nl - 1, 0]),
+                &mut pm,
+            )
+            .unwrap();
+            for (k, state) in pm.chunks_exact(32).enumerate() {
+                for (m, l) in [nl - 1, 0].into_iter().enumerate() {
+                    let x = links[k * nl + l].to_mat4().transpose().to_cols_array();
+                    assert_eq!(
+                        state[m * 16..(m + 1) * 16],
+                        x,
+                        "{file}: {threads} blocks, matrices"
+                    );
+                }
+            }
             let mut pj = vec![Motion::ZERO; n * nv];
             par::frame_jacobian_batch(&model, &mut pk, &q, frame, ReferenceFrame::Local, &mut pj)
                 .unwrap();

@@ -175,7 +175,12 @@ fn bench_batch_times_collision_distances() {
             .clone()
     };
     let rows = run(&data("reference/urdf/panda_collision.urdf"));
-    for name in ["collision_distances", "rnea_derivatives", "aba_derivatives"] {
+    for name in [
+        "fk_matrices",
+        "collision_distances",
+        "rnea_derivatives",
+        "aba_derivatives",
+    ] {
         let row = &rows[name];
         for key in ["single", "batched", "parallel"] {
             assert!(

@@ -6,7 +6,7 @@ use crate::errors::Family;
 use crate::model::PyModel;
 use crate::scratch::KinematicsBlock;
 use kinetree::dynamics::DynamicsData;
-use kinetree::kinematics::batch::{forward_kinematics_batch, frame_jacobian_rows_batch};
+use kinetree::kinematics::batch::{forward_kinematics_matrices_batch, frame_jacobian_rows_batch};
 use kinetree::kinematics::spatial::{Motion, Se3};
 use kinetree::kinematics::{
     FrameId, ReferenceFrame, change_reference, compute_frame_jacobian,
@@ -18,19 +18,6 @@ use pyo3::prelude::*;
 use pyo3::types::PyString;
 use std::cell::RefCell;
 use std::sync::{Mutex, PoisonError};
-
-/// States per call of the batched FK in a block: its placements stay in cache until they are
-/// written out as 4 x 4 rows.
-const CHUNK: usize = 64;
-
-/// A block error of states `first..` of a block, renumbered within the block.
-fn shifted(
-    mut failed: Box<(usize, kinetree::Error)>,
-    first: usize,
-) -> Box<(usize, kinetree::Error)> {
-    failed.0 += first;
-    failed
-}
 
 thread_local! {
     /// Jacobian columns of the calls on this thread (grown to the largest `nv` seen).
@@ -191,7 +178,6 @@ impl PyModel {
             write_links(k.world_from_link(), links, out);
             Ok(())
         };
-        let nq = self.model.nq();
         run_blocks(
             py,
             self,
@@ -200,28 +186,9 @@ impl PyModel {
             out,
             f,
             one,
-            |b: &mut KinematicsBlock, n, x, out| {
-                // A few SIMD blocks at a time, so that the placements are still in cache when
-                // they are written out.
-                for first in (0..n).step_by(CHUNK) {
-                    let last = (first + CHUNK).min(n);
-                    let (batch, poses) = b.poses((last - first) * nl);
-                    forward_kinematics_batch(
-                        &self.model,
-                        batch,
-                        &x[0][first * nq..last * nq],
-                        poses,
-                        None,
-                    )
-                    .map_err(|e| shifted(in_block(e.into()), first))?;
-                    let rows = &mut out[first * nu * 16..last * nu * 16];
-                    // (`max(1)`: a model has a root link, but a chunk size of 0 would panic.)
-                    let each = rows.chunks_exact_mut((nu * 16).max(1));
-                    for (x, o) in poses.chunks_exact(nl.max(1)).zip(each) {
-                        write_links(x, links, o);
-                    }
-                }
-                Ok(())
+            |b: &mut KinematicsBlock, _, x, out| {
+                forward_kinematics_matrices_batch(&self.model, &mut b.batch, x[0], links, out)
+                    .map_err(|e| in_block(e.into()))
             },
         )
     }

@@ -7,7 +7,6 @@ use crate::model::PyModel;
 use kinetree::dynamics::batch::{DerivativesBatch, DynamicsBatch};
 use kinetree::dynamics::{DerivativesData, DynamicsData, JointTerms};
 use kinetree::kinematics::batch::KinematicsBatch;
-use kinetree::kinematics::spatial::Se3;
 use kinetree::model::Model;
 use std::sync::{Mutex, PoisonError};
 
@@ -94,32 +93,18 @@ impl Scratch for DerivativesBatch {
     }
 }
 
-/// The workspace of the batched kinematics, with room for a block's placements before they are
-/// written out as numpy arrays (the Jacobians are written straight into numpy's rows).
+/// The workspace of the batched kinematics (poses and Jacobians are written straight into
+/// numpy's arrays).
 #[derive(Debug)]
 pub(crate) struct KinematicsBlock {
     /// The batched kernels' buffers.
     pub(crate) batch: KinematicsBatch,
-    /// Link placements of a block of states.
-    pub(crate) poses: Vec<Se3>,
-}
-
-impl KinematicsBlock {
-    /// The kernels' buffers and the first `n` placements (the buffer grown, once, when a block
-    /// needs more).
-    pub(crate) fn poses(&mut self, n: usize) -> (&mut KinematicsBatch, &mut [Se3]) {
-        if self.poses.len() < n {
-            self.poses.resize(n, Se3::IDENTITY);
-        }
-        (&mut self.batch, &mut self.poses[..n])
-    }
 }
 
 impl Scratch for KinematicsBlock {
     fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
         let fresh = || KinematicsBlock {
             batch: KinematicsBatch::new(&model.model),
-            poses: Vec::new(),
         };
         model.kinematics_batch_pool.with(fresh, f)
     }

@@ -6,7 +6,9 @@
 //! repetition runs whole batches for at least `--calls` states; the median ns/state is
 //! printed. With `--json`:
 //! `{"model", "nq", "nv", "batch", "threads", "simd", "ns_per_state": {"fk": {"single",
-//! "batched", "parallel"}, …}}` with the keys `fk`, `fk_frames`, `frame_jacobian`, `rnea`,
+//! "batched", "parallel"}, …}}` with the keys `fk`, `fk_matrices` (every link as a row-major
+//! 4×4 matrix, the layout of numpy's poses; its one-state path converts `fk`'s placements),
+//! `fk_frames`, `frame_jacobian`, `rnea`,
 //! `aba`, `crba`, `rnea_derivatives` and `aba_derivatives` (the three matrices each), and `collision_distances` (all-pairs signed distances, placements included)
 //! for models with collision geometry, timed on as many states as `--calls` states of 300 ns
 //! would take (mesh pairs cost milliseconds a state), in batches cut down to that many states
@@ -16,7 +18,8 @@ use anyhow::Result;
 use kinetree::dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
 use kinetree::dynamics::{DynamicsData, aba, crba, rnea};
 use kinetree::kinematics::batch::{
-    KinematicsBatch, forward_kinematics_batch, frame_jacobian_batch,
+    KinematicsBatch, forward_kinematics_batch, forward_kinematics_matrices_batch,
+    frame_jacobian_batch,
 };
 use kinetree::kinematics::spatial::{Motion, Se3};
 use kinetree::kinematics::{
@@ -110,6 +113,27 @@ pub(crate) fn rows(s: &Setup<'_>) -> Vec<Row> {
         parallel: t(&mut || {
             let _ = par::forward_kinematics_batch(model, &mut pk, black_box(q), &mut links, None);
             black_box(&links);
+        }),
+    });
+    let mut matrices = vec![0.0; n * nl * 16];
+    rows.push(Row {
+        name: "fk_matrices",
+        single: t(&mut || {
+            for (k, out) in matrices.chunks_exact_mut((nl * 16).max(1)).enumerate() {
+                let _ = forward_kinematics(model, &mut data, black_box(qk(k)));
+                for (x, o) in data.world_from_link().iter().zip(out.chunks_exact_mut(16)) {
+                    o.copy_from_slice(&x.to_mat4().transpose().to_cols_array());
+                }
+            }
+            black_box(&matrices);
+        }),
+        batched: t(&mut || {
+            let _ = forward_kinematics_matrices_batch(model, &mut kb, q, None, &mut matrices);
+            black_box(&matrices);
+        }),
+        parallel: t(&mut || {
+            let _ = par::forward_kinematics_matrices_batch(model, &mut pk, q, None, &mut matrices);
+            black_box(&matrices);
         }),
     });
     rows.push(Row {

@@ -5,8 +5,8 @@
 use crate::common::{all_models, stacked_states as states};
 use kinetree_dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
 use kinetree_dynamics::kinematics::batch::{
-    KinematicsBatch, Simd, forward_kinematics_batch, frame_jacobian_batch,
-    frame_jacobian_rows_batch,
+    KinematicsBatch, Simd, forward_kinematics_batch, forward_kinematics_matrices_batch,
+    frame_jacobian_batch, frame_jacobian_rows_batch,
 };
 use kinetree_dynamics::kinematics::{
     KinematicsData, KinematicsError, compute_frame_jacobian, forward_kinematics,
@@ -87,6 +87,14 @@ fn batched_kinematics_equals_the_one_state_path() {
                 let mut frames = vec![Se3::IDENTITY; n * nf];
                 forward_kinematics_batch(&model, &mut batch, &q, &mut links, Some(&mut frames))
                     .unwrap();
+                // Every link as 4 x 4 matrices, and a selection (the last link, the root, the
+                // last again), from NaN-filled buffers so that a number left unwritten shows.
+                let mut all = vec![f64::NAN; n * nl * 16];
+                forward_kinematics_matrices_batch(&model, &mut batch, &q, None, &mut all).unwrap();
+                let pick = [nl - 1, 0, nl - 1];
+                let mut picked = vec![f64::NAN; n * pick.len() * 16];
+                forward_kinematics_matrices_batch(&model, &mut batch, &q, Some(&pick), &mut picked)
+                    .unwrap();
                 for k in 0..n {
                     forward_kinematics(&model, &mut data, &q[k * nq..(k + 1) * nq]).unwrap();
                     update_frame_placements(&model, &mut data).unwrap();
@@ -100,6 +108,26 @@ fn batched_kinematics_equals_the_one_state_path() {
                         &se3_numbers(&frames[k * nf..(k + 1) * nf]),
                         &se3_numbers(data.world_from_frame()),
                         &format!("{what} frames"),
+                    );
+                    let homogeneous = |x: &Se3| x.to_mat4().transpose().to_cols_array();
+                    let want: Vec<f64> = data
+                        .world_from_link()
+                        .iter()
+                        .flat_map(homogeneous)
+                        .collect();
+                    assert_exact(
+                        &all[k * nl * 16..(k + 1) * nl * 16],
+                        &want,
+                        &format!("{what} matrices"),
+                    );
+                    let want: Vec<f64> = pick
+                        .iter()
+                        .flat_map(|&l| homogeneous(&data.world_from_link()[l]))
+                        .collect();
+                    assert_exact(
+                        &picked[k * 48..(k + 1) * 48],
+                        &want,
+                        &format!("{what} picked matrices"),
                     );
                 }
                 for &frame in &targets {
@@ -307,6 +335,36 @@ fn a_bad_state_is_named_by_its_index_and_bad_lengths_are_errors() {
             err,
             KinematicsError::DimensionMismatch {
                 what: "jacobian",
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    // The matrices form names the same state, a link the model does not have, and a buffer of
+    // the wrong length.
+    let nl = model.links().len();
+    let mut matrices = vec![0.0; n * 2 * 16];
+    let err =
+        forward_kinematics_matrices_batch(&model, &mut batch, &q, Some(&[0, 1]), &mut matrices)
+            .unwrap_err();
+    assert!(
+        matches!(&err, KinematicsError::InBatchState { index: 6, source } if matches!(**source, KinematicsError::NonFinite { what: "q", index: 0 })),
+        "{err:?}"
+    );
+    let err =
+        forward_kinematics_matrices_batch(&model, &mut batch, &q, Some(&[0, nl]), &mut matrices)
+            .unwrap_err();
+    assert!(
+        matches!(err, KinematicsError::FrameOutOfRange { what: "link", index, count } if index == nl && count == nl),
+        "{err:?}"
+    );
+    let err =
+        forward_kinematics_matrices_batch(&model, &mut batch, &q, None, &mut matrices).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            KinematicsError::DimensionMismatch {
+                what: "matrices",
                 ..
             }
         ),

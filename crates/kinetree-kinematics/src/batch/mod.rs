@@ -50,7 +50,7 @@ use crate::error::KinematicsError;
 use crate::jacobian::ReferenceFrame;
 use kinetree_model::Model;
 use kinetree_model::spatial::{Motion, Se3};
-use sweep::{JacobianOut, LaneBuffers, Shape};
+use sweep::{JacobianOut, LaneBuffers, PosesOut, Shape};
 
 /// The buffers of the batched kinematics for one [`Model`] (see the [module](self) docs).
 ///
@@ -195,11 +195,86 @@ pub fn forward_kinematics_batch(
 ) -> Result<(), KinematicsError> {
     batch.data.check_model(model)?;
     let nl = model.links().len();
-    let nf = model.frames().len();
     let n = states(model, q, "world_from_link", world_from_link.len(), nl)?;
     if let Some(frames) = &world_from_frame {
-        check_buffer("world_from_frame", frames.len(), n, nf)?;
+        check_buffer("world_from_frame", frames.len(), n, model.frames().len())?;
     }
+    poses(
+        model,
+        batch,
+        q,
+        n,
+        PosesOut::Placements(world_from_link),
+        world_from_frame,
+    )
+}
+
+/// Forward kinematics of `N` states as row-major 4×4 homogeneous matrices (the layout of
+/// numpy's `(N, links, 4, 4)` arrays and of Pinocchio's `SE3.homogeneous`): the world placement
+/// of each link of `links` (link indices, in the order wanted; every link of the model, in
+/// order, when `None`).
+///
+/// `q` holds the `N` configurations one after another; `out` receives `N · k · 16` numbers for
+/// `k` links, state `s`'s matrices at `s · k · 16 ..`, each the rotation's rows with the
+/// translation as fourth column, then `0 0 0 1`. The numbers are those of
+/// [`forward_kinematics_batch`] bit for bit, written once each, with no placement buffer
+/// between. Allocates nothing.
+///
+/// # Examples
+/// ```
+/// use kinetree_kinematics::batch::{KinematicsBatch, forward_kinematics_matrices_batch};
+/// # fn main() -> Result<(), kinetree_kinematics::KinematicsError> {
+/// let model = kinetree_kinematics::model::samples::planar_2r(0.3, 0.2);
+/// let link2 = model.link_index("link2").expect("the sample has link2");
+/// let q = [0.0, 0.0, std::f64::consts::FRAC_PI_2, 0.0]; // two states of nq = 2
+/// let mut batch = KinematicsBatch::new(&model);
+/// let mut poses = [0.0; 2 * 16]; // link2's 4 x 4 pose in each state
+/// forward_kinematics_matrices_batch(&model, &mut batch, &q, Some(&[link2]), &mut poses)?;
+/// // link2 hangs at the end of the first link (l1 = 0.3): along x stretched out, along y
+/// // with the first joint turned a quarter.
+/// assert!((poses[3] - 0.3).abs() < 1e-15 && poses[7].abs() < 1e-15);
+/// assert!(poses[16 + 3].abs() < 1e-15 && (poses[16 + 7] - 0.3).abs() < 1e-15);
+/// assert_eq!(&poses[12..16], &[0.0, 0.0, 0.0, 1.0]);
+/// # Ok(())
+/// # }
+/// ```
+///
+/// # Errors
+/// [`KinematicsError::FrameOutOfRange`] for a link index the model does not have,
+/// [`KinematicsError::DimensionMismatch`] for buffers of the wrong length,
+/// [`KinematicsError::InBatchState`] wrapping the one-state error of the first bad state (a
+/// non-finite value, a quaternion that is not unit, an overflow).
+pub fn forward_kinematics_matrices_batch(
+    model: &Model,
+    batch: &mut KinematicsBatch,
+    q: &[f64],
+    links: Option<&[usize]>,
+    out: &mut [f64],
+) -> Result<(), KinematicsError> {
+    batch.data.check_model(model)?;
+    let nl = model.links().len();
+    if let Some(&index) = links.into_iter().flatten().find(|&&l| l >= nl) {
+        return Err(KinematicsError::FrameOutOfRange {
+            what: "link",
+            index,
+            count: nl,
+        });
+    }
+    let k = links.map_or(nl, <[usize]>::len);
+    let n = states(model, q, "matrices", out.len(), 16 * k)?;
+    poses(model, batch, q, n, PosesOut::Matrices { out, links }, None)
+}
+
+/// Batched forward kinematics of the `n` states of `q` into `links` and `frames` (the model,
+/// lengths and link indices checked by the caller).
+fn poses(
+    model: &Model,
+    batch: &mut KinematicsBatch,
+    q: &[f64],
+    n: usize,
+    links: PosesOut<'_>,
+    frames: Option<&mut [Se3]>,
+) -> Result<(), KinematicsError> {
     let shape = Shape {
         model,
         joint_models: &batch.data.joint_models,
@@ -207,11 +282,10 @@ pub fn forward_kinematics_batch(
         turn_axis: &batch.data.turn_axis,
         io: Io::new(batch.simd),
     };
-    let frames = world_from_frame;
     let bad = crate::simd_dispatch!(
         batch.simd, LaneBuffers, &mut batch.lanes4, &mut batch.lanes8, fk_kernel,
         (shape: &Shape<'_> = &shape, q: &[f64] = q, n: usize = n,
-         links: &mut [Se3] = world_from_link, frames: Option<&mut [Se3]> = frames) -> Option<usize>
+         links: PosesOut<'_> = links, frames: Option<&mut [Se3]> = frames) -> Option<usize>
     );
     if let Some(k) = bad {
         // The one-state function names the body that overflowed.
@@ -228,7 +302,7 @@ fn fk_kernel<const L: usize>(
     shape: &Shape<'_>,
     q: &[f64],
     n: usize,
-    links: &mut [Se3],
+    links: PosesOut<'_>,
     frames: Option<&mut [Se3]>,
 ) -> Option<usize> {
     sweep::forward_kinematics(bufs, shape, q, n, links, frames)

@@ -59,6 +59,21 @@ impl JacobianOut<'_> {
     }
 }
 
+/// Where batched forward kinematics puts the links' placements.
+#[derive(Debug)]
+pub(crate) enum PosesOut<'a> {
+    /// Every link's placement, state `k`'s links at `k · nlinks ..`.
+    Placements(&'a mut [Se3]),
+    /// Row-major 4×4 homogeneous matrices of the links `links` (every link, in order, when
+    /// `None`), state `k`'s `16 · links.len()` numbers at `k · 16 · links.len() ..`.
+    Matrices {
+        /// The matrices.
+        out: &'a mut [f64],
+        /// The links written, in the order written (indices checked by the caller).
+        links: Option<&'a [usize]>,
+    },
+}
+
 /// One term of a Jacobian column, worked out once per call so the block loop neither matches
 /// on joint kinds nor reads the model.
 #[derive(Clone, Copy, Debug)]
@@ -205,23 +220,32 @@ fn earliest(a: Option<usize>, b: Option<usize>) -> Option<usize> {
     }
 }
 
-/// Forward kinematics of the `n` states of `q`: every link's placement into `links`, and every
-/// frame's into `frames` when given (buffer lengths checked by the caller). Returns the first state
-/// whose configuration the one-state function refuses or with
-/// a link whose translation is not finite (the one-state function's overflow check).
+/// Forward kinematics of the `n` states of `q`: the links' placements into `links`, and every
+/// frame's into `frames` when given (buffer lengths and link indices checked by the caller).
+/// Returns the first state whose configuration the one-state function refuses or with a link
+/// whose translation is not finite (the one-state function's overflow check, over every link
+/// whichever are written).
 #[inline(always)]
 pub(crate) fn forward_kinematics<const L: usize>(
     bufs: &mut LaneBuffers<L>,
     shape: &Shape<'_>,
     q: &[f64],
     n: usize,
-    links: &mut [Se3],
+    mut links: PosesOut<'_>,
     mut frames: Option<&mut [Se3]>,
 ) -> Option<usize> {
     let model = shape.model;
     let (nq, nl, nf) = (model.nq(), model.links().len(), model.frames().len());
-    // The links' lane placements are kept only for the frames, which are placed from them.
-    let keep_links = frames.is_some() && nf > 0;
+    // A selection of links is written once all are placed (so every link is checked).
+    let selection = match &links {
+        PosesOut::Matrices {
+            links: Some(sel), ..
+        } => Some(*sel),
+        _ => None,
+    };
+    // The links' lane placements are kept for the frames, which are placed from them, and for a
+    // selection.
+    let keep_links = (frames.is_some() && nf > 0) || selection.is_some();
     let mut bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
@@ -247,9 +271,23 @@ pub(crate) fn forward_kinematics<const L: usize>(
             if keep_links {
                 bufs.world_from_link[l] = x;
             }
-            shape
-                .io
-                .store_placements(&x, links, start * nl + l, nl, count);
+            match &mut links {
+                PosesOut::Placements(out) => {
+                    shape
+                        .io
+                        .store_placements(&x, out, start * nl + l, nl, count);
+                }
+                PosesOut::Matrices { out, links: None } => {
+                    shape.io.store_matrix(&x, out, l, nl, start, count);
+                }
+                PosesOut::Matrices { .. } => {}
+            }
+        }
+        if let (Some(sel), PosesOut::Matrices { out, .. }) = (selection, &mut links) {
+            for (slot, &l) in sel.iter().enumerate() {
+                let x = &bufs.world_from_link[l];
+                shape.io.store_matrix(x, out, slot, sel.len(), start, count);
+            }
         }
         if bad.is_none() {
             bad = earliest(refused, first_flagged(probe, start, count));

@@ -138,6 +138,37 @@ impl Io {
         }
     }
 
+    /// Writes `x` as a row-major 4×4 homogeneous matrix (rotation rows with the translation as
+    /// last column, then `0 0 0 1`), lane `k` as matrix `slot` of `per_state` in state
+    /// `first + k`'s record: `out[((first + k)·per_state + slot)·16 ..][..16]`, for the first
+    /// `count` lanes.
+    #[inline(always)]
+    pub(crate) fn store_matrix<const L: usize>(
+        self,
+        x: &LSe3<L>,
+        out: &mut [f64],
+        slot: usize,
+        per_state: usize,
+        first: usize,
+        count: usize,
+    ) {
+        let (r, t) = (&x.rotation, &x.translation);
+        let (c0, c1, c2) = (&r.x_axis, &r.y_axis, &r.z_axis);
+        let (zero, one) = (Lanes::ZERO, Lanes::splat(1.0));
+        let rows = [
+            c0.x, c1.x, c2.x, t.x, c0.y, c1.y, c2.y, t.y, c0.z, c1.z, c2.z, t.z, zero, zero, zero,
+            one,
+        ];
+        self.store_coordinates(
+            &rows,
+            16,
+            &mut out[slot * 16..],
+            first,
+            per_state * 16,
+            count,
+        );
+    }
+
     /// Sets every motion of `out` to zero (without a call to `memset`, whose set-up costs more
     /// than the few columns of a run off a Jacobian's path).
     #[inline(always)]
