@@ -12,7 +12,8 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use kinetree::dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
 use kinetree::dynamics::{DynamicsData, aba, crba, rnea};
 use kinetree::kinematics::batch::{
-    KinematicsBatch, forward_kinematics_batch, frame_jacobian_batch,
+    KinematicsBatch, forward_kinematics_batch, forward_kinematics_matrices_batch,
+    frame_jacobian_batch,
 };
 use kinetree::kinematics::configuration::random_configuration;
 use kinetree::kinematics::{
@@ -93,6 +94,29 @@ fn batch(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("fk", "parallel"), |b| {
             b.iter(|| {
                 par::forward_kinematics_batch(&model, &mut pk, black_box(&q), &mut links, None)
+            })
+        });
+        let mut matrices = vec![0.0; N * nl * 16];
+        g.bench_function(BenchmarkId::new("fk_matrices", "batched"), |b| {
+            b.iter(|| {
+                forward_kinematics_matrices_batch(
+                    &model,
+                    &mut kb,
+                    black_box(&q),
+                    None,
+                    &mut matrices,
+                )
+            })
+        });
+        g.bench_function(BenchmarkId::new("fk_matrices", "parallel"), |b| {
+            b.iter(|| {
+                par::forward_kinematics_matrices_batch(
+                    &model,
+                    &mut pk,
+                    black_box(&q),
+                    None,
+                    &mut matrices,
+                )
             })
         });
         g.bench_function(BenchmarkId::new("frame_jacobian", "one_state"), |b| {
