@@ -27,16 +27,17 @@ pub(crate) struct CrbaLanes<const L: usize> {
     joint_rot: LaneVec<LRotation<L>>,
     composite: LaneVec<LOrigin<L>>,
     /// The entries the sweep computes (one per ancestor pair of degrees of freedom, the diagonal
-    /// included), in the order it computes them: see [`entry_layout`].
+    /// included), in the order it computes them: see [`entry_layout`]. Only for models without
+    /// `dense`.
     entries: Vec<Lanes<L>>,
     /// Where each of `entries` goes in a row-major `nv x nv` matrix: its two mirrored places.
     places: Vec<(usize, usize)>,
     /// The index in `entries` of each diagonal entry (for the armature).
     diagonal: Vec<usize>,
     /// For `nv² ≤ DENSE_MAX`, the block's whole matrices in lanes, row-major (`nv²` rounded up
-    /// to 8 for the transposes of `Io::store_coordinates`): `entries` are copied to their
-    /// places, and the places no entry has stay 0. Empty for larger models, whose matrices are
-    /// written state by state from `entries` ([`store_block`]).
+    /// to 8 for the transposes of `Io::store_coordinates`): the sweep writes each entry to its
+    /// places ([`Sink`]), and the places no entry has stay 0. Empty for larger models, whose
+    /// matrices are written state by state from `entries` ([`store_block`]).
     dense: Vec<Lanes<L>>,
 }
 
@@ -44,14 +45,19 @@ impl<const L: usize> CrbaLanes<L> {
     pub(crate) fn new(model: &Model) -> Self {
         let nb = model.nbodies();
         let (places, diagonal) = entry_layout(model);
+        let dense = model.nv() * model.nv() <= DENSE_MAX;
         Self {
             parent_from_body: LaneVec::new(LSe3::default(), nb),
             joint_rot: LaneVec::new(LRotation::Identity, nb),
             composite: LaneVec::new(LOrigin::default(), nb),
-            entries: vec![Lanes::ZERO; places.len()],
+            entries: if dense {
+                Vec::new()
+            } else {
+                vec![Lanes::ZERO; places.len()]
+            },
             places,
             diagonal,
-            dense: if model.nv() * model.nv() <= DENSE_MAX {
+            dense: if dense {
                 vec![Lanes::ZERO; (model.nv() * model.nv()).next_multiple_of(8)]
             } else {
                 Vec::new()
@@ -271,6 +277,34 @@ fn axis_momentum_of<const L: usize>(axis: (usize, bool), y: &LOrigin<L>) -> (LFo
     }
 }
 
+/// Where the sweep's entries go, in the order it computes them (see [`entry_layout`]): to
+/// `entries`, or, for a model whose block of matrices is assembled whole (`dense` not empty),
+/// straight to their two places in `dense`. Every entry is also summed into `probe`.
+struct Sink<'a, const L: usize> {
+    entries: &'a mut [Lanes<L>],
+    places: &'a [(usize, usize)],
+    dense: &'a mut [Lanes<L>],
+    /// The next entry's index.
+    w: usize,
+    probe: Lanes<L>,
+}
+
+impl<const L: usize> Sink<'_, L> {
+    /// The next entry.
+    #[inline(always)]
+    fn put(&mut self, x: Lanes<L>) {
+        self.probe += x;
+        if self.dense.is_empty() {
+            self.entries[self.w] = x;
+        } else {
+            let (a, b) = self.places[self.w];
+            self.dense[a] = x;
+            self.dense[b] = x;
+        }
+        self.w += 1;
+    }
+}
+
 /// Writes the block's entries (`L` lanes each, at `places`) into the first `out.len() / nn`
 /// states of `out` (each an `nn`-number matrix), zero everywhere else.
 #[inline(always)]
@@ -333,12 +367,15 @@ pub(crate) fn crba<const L: usize>(
             bufs.joint_rot[i] = rot;
             bufs.composite[i] = LOrigin::splat(&data.body_inertia[i]);
         }
-        let m = &mut bufs.entries;
-        // The next entry of `m` (see `entry_layout`).
-        let mut w = 0;
+        let mut sink = Sink {
+            entries: &mut bufs.entries,
+            places: &bufs.places,
+            dense: &mut bufs.dense,
+            w: 0,
+            probe: Lanes::ZERO,
+        };
         let mut f = [LForce::ZERO; 6];
         let mut col = [Lanes::ZERO; 6];
-        let mut probe = Lanes::ZERO;
         for i in (1..bodies.len()).rev() {
             let b = &bodies[i];
             let ni = b.nv;
@@ -357,9 +394,7 @@ pub(crate) fn crba<const L: usize>(
                     for k in 0..ni {
                         project_force(jm, &f[k], &mut col);
                         for l in k..ni {
-                            probe += col[l];
-                            m[w] = col[l];
-                            w += 1;
+                            sink.put(col[l]);
                         }
                     }
                     (f[0], None)
@@ -368,9 +403,7 @@ pub(crate) fn crba<const L: usize>(
             if ni == 1 {
                 let mut fk = f0;
                 if let Some(d) = diagonal {
-                    probe += d;
-                    m[w] = d;
-                    w += 1;
+                    sink.put(d);
                 }
                 let mut j = i;
                 loop {
@@ -381,25 +414,19 @@ pub(crate) fn crba<const L: usize>(
                     if step.last {
                         // The root-most entry: one component of the moved force.
                         let x = axis_component_of(&bufs.parent_from_body[j], &fk, step.kind);
-                        probe += x;
-                        m[w] = x;
-                        w += 1;
+                        sink.put(x);
                         break;
                     }
                     fk = bufs.parent_from_body[j].act_force(&fk);
                     j = step.parent;
                     if step.kind < AncestorStep::FLOATING {
                         let x = component(&fk, step.kind);
-                        probe += x;
-                        m[w] = x;
-                        w += 1;
+                        sink.put(x);
                     } else {
                         let nj = bodies[j].nv;
                         project_force(&joint_models[j], &fk, &mut col);
                         for l in 0..nj {
-                            probe += col[l];
-                            m[w] = col[l];
-                            w += 1;
+                            sink.put(col[l]);
                         }
                     }
                 }
@@ -418,9 +445,7 @@ pub(crate) fn crba<const L: usize>(
                     for k in 0..ni {
                         project_force(&joint_models[j], &f[k], &mut col);
                         for l in 0..nj {
-                            probe += col[l];
-                            m[w] = col[l];
-                            w += 1;
+                            sink.put(col[l]);
                         }
                     }
                 }
@@ -441,25 +466,25 @@ pub(crate) fn crba<const L: usize>(
         }
         if data.has_joint_terms {
             for k in 0..nv {
-                let d = &mut m[bufs.diagonal[k]];
+                let d = if sink.dense.is_empty() {
+                    &mut sink.entries[bufs.diagonal[k]]
+                } else {
+                    &mut sink.dense[k * nv + k]
+                };
                 *d += Lanes::splat(data.armature[k]);
-                probe += *d;
+                sink.probe += *d;
             }
         }
+        let probe = sink.probe;
         if bufs.dense.is_empty() {
             store_block(
-                m,
+                &bufs.entries,
                 &bufs.places,
                 &mut mass_matrix[start * nn..(start + count) * nn],
                 nn,
             );
         } else {
-            // Each entry to its two places in the block's matrices, then every state's matrix
-            // out through the transposes.
-            for (x, &(a, b)) in m.iter().zip(&bufs.places) {
-                bufs.dense[a] = *x;
-                bufs.dense[b] = *x;
-            }
+            // Every state's matrix out through the transposes (the places no entry has stay 0).
             io.store_coordinates(&bufs.dense, nn, mass_matrix, start, nn, count);
         }
         finite &= probe.0[..count].iter().all(|p| p.is_finite());
