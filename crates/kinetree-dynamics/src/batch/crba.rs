@@ -13,11 +13,13 @@ use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, LaneVec, Lanes};
 
 /// The largest `nv²` whose block of matrices is assembled in lanes and written through the
-/// transposes: 256 entries are 16 KiB of 8-lane buffer, which stays in the first-level cache.
-/// Measured (`kinetree bench --batch 1024`, AVX-512, one thread, min of 3 rounds, ns/state):
-/// panda (nv 9) 220 → 205, ur5 (nv 6) 165 → 117, but solo12 (nv 18, 20 KiB) 450 → 543 and
-/// talos_full_v2 (nv 50, 160 KiB) 2599 → 3063, so larger models keep the state-by-state writes.
-const DENSE_MAX: usize = 256;
+/// transposes (nv ≤ 64: at most 256 KiB of 8-lane buffer per workspace); larger models write
+/// each state's matrix from the list of entries. Once the sweep wrote its entries straight into
+/// the block (rather than into a list copied there afterwards), the block won at every size
+/// measured (`kinetree bench --batch 1024`, AVX-512, one thread, min of 3 rounds, ns/state,
+/// state-by-state writes → block): solo12 (nv 18, 20 KiB) 355 → 319, talos_reduced (nv 38,
+/// 90 KiB) 1394 → 1304, talos_full_v2 (nv 50, 160 KiB) 2198 → 2010.
+const DENSE_MAX: usize = 4096;
 
 /// The per-body lane buffers of CRBA for one lane width, and the block's mass matrices.
 #[derive(Clone, Debug, Default)]

@@ -268,6 +268,35 @@ fn models() -> Vec<(String, Model)> {
     out
 }
 
+#[test]
+fn batched_crba_of_a_large_tree_equals_the_one_state_path() {
+    // Above the size whose block of matrices is assembled in lanes (nv > 64), each state's
+    // matrix is written from the list of entries: a branched tree of every joint kind, with a
+    // floating base.
+    let model = kinetree_dynamics::model::samples::random_tree_with_root(
+        7,
+        60,
+        kinetree_dynamics::model::RootJoint::Floating,
+    );
+    let (nq, nv) = (model.nq(), model.nv());
+    assert!(nv > 64, "nv = {nv}");
+    let mut data = DynamicsData::new(&model);
+    for simd in SIMD {
+        let mut batch = DynamicsBatch::with_options(&model, JointTerms::Ignored, simd);
+        for n in [1, 9] {
+            let (q, _, _) = states(&model, n, 31 + n as u64);
+            let mut mass = vec![f64::NAN; n * nv * nv];
+            crba_batch(&model, &mut batch, &q, &mut mass).unwrap();
+            for k in 0..n {
+                let m = crba(&model, &mut data, &q[k * nq..(k + 1) * nq]).unwrap();
+                let nn = nv * nv;
+                let what = format!("{simd:?} n={n} state {k} crba");
+                assert_exact(&mass[k * nn..(k + 1) * nn], m, &what);
+            }
+        }
+    }
+}
+
 fn massless_leaf() -> Model {
     let mut b = ModelBuilder::new("massless_leaf");
     b.add_link(Link::new("base"));
