@@ -2,8 +2,9 @@
 //! buffers the caller owns.
 //!
 //! The states are stored one after another: `q` holds `N · model.nq()` numbers, state `k` at
-//! `q[k·nq..(k+1)·nq]`; the results follow the same layout (`N · links` placements, `N · nv`
-//! Jacobian columns, or `N` row-major `6 x nv` matrices from [`frame_jacobian_rows_batch`]). A [`KinematicsBatch`] holds every buffer; after [`KinematicsBatch::new`]
+//! `q[k·nq..(k+1)·nq]`; the results follow the same layout (`N · links` placements, or `N · links`
+//! row-major 4×4 matrices from [`forward_kinematics_matrices_batch`]; `N · nv` Jacobian columns,
+//! or `N` row-major `6 x nv` matrices from [`frame_jacobian_rows_batch`]). A [`KinematicsBatch`] holds every buffer; after [`KinematicsBatch::new`]
 //! nothing allocates. The results equal the one-state functions' to rounding (the tests hold them
 //! to 1e-14 relative on every reference robot).
 //!
