@@ -4,9 +4,10 @@
 use crate::arrays::{in_block, run, run_blocks};
 use crate::errors::Family;
 use crate::model::PyModel;
-use crate::scratch::KinematicsBlock;
 use kinetree::dynamics::DynamicsData;
-use kinetree::kinematics::batch::{forward_kinematics_matrices_batch, frame_jacobian_rows_batch};
+use kinetree::kinematics::batch::{
+    KinematicsBatch, forward_kinematics_matrices_batch, frame_jacobian_rows_batch,
+};
 use kinetree::kinematics::spatial::{Motion, Se3};
 use kinetree::kinematics::{
     FrameId, ReferenceFrame, change_reference, compute_frame_jacobian,
@@ -186,8 +187,8 @@ impl PyModel {
             out,
             f,
             one,
-            |b: &mut KinematicsBlock, _, x, out| {
-                forward_kinematics_matrices_batch(&self.model, &mut b.batch, x[0], links, out)
+            |b: &mut KinematicsBatch, _, x, out| {
+                forward_kinematics_matrices_batch(&self.model, b, x[0], links, out)
                     .map_err(|e| in_block(e.into()))
             },
         )
@@ -306,8 +307,8 @@ impl PyModel {
             out,
             f,
             one,
-            |b: &mut KinematicsBlock, _, x, out| {
-                frame_jacobian_rows_batch(&self.model, &mut b.batch, x[0], frame, reference, out)
+            |b: &mut KinematicsBatch, _, x, out| {
+                frame_jacobian_rows_batch(&self.model, b, x[0], frame, reference, out)
                     .map_err(|e| in_block(e.into()))
             },
         )

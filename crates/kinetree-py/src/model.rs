@@ -3,9 +3,10 @@
 use crate::arrays::{Real, States, finite, run_with, stack_states, states, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::kinematics::FrameCache;
-use crate::scratch::{KinematicsBlock, Pool};
+use crate::scratch::Pool;
 use kinetree::dynamics::batch::{DerivativesBatch, DynamicsBatch};
 use kinetree::dynamics::{DerivativesData, DynamicsData};
+use kinetree::kinematics::batch::KinematicsBatch;
 use kinetree::kinematics::configuration;
 use kinetree::model::dh::{DhConvention, DhRow, DhTable};
 use kinetree::model::{JointKind, JsonOptions, Model, RootJoint};
@@ -47,7 +48,7 @@ pub(crate) struct PyModel {
     /// Workspaces of the derivative algorithms, as `dynamics_pool`.
     pub(crate) derivatives_pool: Pool<DerivativesData>,
     /// Workspaces of the batched kinematics (FK, Jacobians), as `dynamics_pool`.
-    pub(crate) kinematics_batch_pool: Pool<KinematicsBlock>,
+    pub(crate) kinematics_batch_pool: Pool<KinematicsBatch>,
     /// Workspaces of the batched dynamics (RNEA, ABA, CRBA), as `dynamics_pool`.
     pub(crate) dynamics_batch_pool: Pool<DynamicsBatch>,
     /// Workspaces of the batched derivatives, as `dynamics_pool`.

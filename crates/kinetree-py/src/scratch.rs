@@ -93,19 +93,10 @@ impl Scratch for DerivativesBatch {
     }
 }
 
-/// The workspace of the batched kinematics (poses and Jacobians are written straight into
-/// numpy's arrays).
-#[derive(Debug)]
-pub(crate) struct KinematicsBlock {
-    /// The batched kernels' buffers.
-    pub(crate) batch: KinematicsBatch,
-}
-
-impl Scratch for KinematicsBlock {
+impl Scratch for KinematicsBatch {
     fn with<R>(model: &PyModel, f: impl FnOnce(&mut Self) -> R) -> R {
-        let fresh = || KinematicsBlock {
-            batch: KinematicsBatch::new(&model.model),
-        };
-        model.kinematics_batch_pool.with(fresh, f)
+        model
+            .kinematics_batch_pool
+            .with(|| KinematicsBatch::new(&model.model), f)
     }
 }
