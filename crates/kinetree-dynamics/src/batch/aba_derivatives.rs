@@ -3,15 +3,15 @@
 //! operation in the one-state order, then each state's tree-sparse solves (the one-state code:
 //! they already run on whole rows in SIMD).
 
+use super::lane_solve::LaneSolve;
 use super::rnea_derivatives::{
     LWorldInertia, RneaDerivativesLanes, Sink, acceleration_body, backward, mat_add, mat_sub, skew,
     velocity_body,
 };
 use crate::data::sign;
 use crate::derivatives::DerivativesData;
-use crate::derivatives::solve::DofTree;
 use crate::factor::PIVOT_TOLERANCE;
-use kinetree_kinematics::batch::gather;
+use kinetree_kinematics::batch::{Io, gather};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
@@ -105,20 +105,13 @@ pub(crate) struct AbaDerivativesLanes<const L: usize> {
     pivot_inverse: Vec<Lanes<L>>,
     u: Vec<Lanes<L>>,
     pub(crate) ddq: Vec<Lanes<L>>,
-    /// Per lane, the factor `M = Lᵀ·D·L` as `nv x nv` (only the diagonal and each row's
-    /// ancestors are written and read).
-    factor: Vec<f64>,
-    /// Per lane, the pair `[∂τ/∂q ∂τ/∂v]` (`nv` rows of `2·np`, see `DofTree`).
-    pair: Vec<f64>,
-    /// The solves' structure and scratch.
-    tree: Option<DofTree>,
+    /// Each lane's factor, pair and `M⁻¹` for the solves.
+    solve: LaneSolve<L>,
 }
 
 impl<const L: usize> AbaDerivativesLanes<L> {
     pub(crate) fn new(model: &Model, data: &DerivativesData) -> Self {
         let (nb, nv) = (model.nbodies(), model.nv());
-        let tree = data.tree.clone();
-        let w = 2 * tree.padded();
         let x = |n| vec![Lanes::ZERO; n];
         Self {
             bias: LaneVec::new(LMotion::ZERO, nb),
@@ -128,31 +121,25 @@ impl<const L: usize> AbaDerivativesLanes<L> {
             pivot_inverse: x(nv),
             u: x(nv),
             ddq: x(nv),
-            factor: vec![0.0; L * nv * nv],
-            pair: vec![0.0; L * nv * w],
-            tree: Some(tree),
+            solve: LaneSolve::new(data.tree.clone(), nv),
         }
     }
 }
 
-/// A [`Sink`] putting `∂τ/∂q` and `∂τ/∂v` into each lane's pair (`∂τ/∂a` is not needed).
-struct PairSink<'a> {
-    pair: &'a mut [f64],
-    /// One lane's pair (`nv · w`), and a pair row (`w = 2·np`).
-    lane: usize,
-    w: usize,
-    np: usize,
+/// A [`Sink`] putting `∂τ/∂q` and `∂τ/∂v` into the pair of the solves (`∂τ/∂a` is not needed).
+struct PairSink<'a, const L: usize> {
+    /// `∂τ/∂q` (`nv x nv`), and from `half` on `∂τ/∂v`.
+    pair: &'a mut [Lanes<L>],
+    half: usize,
+    nv: usize,
 }
 
-impl<const L: usize> Sink<L> for PairSink<'_> {
+impl<const L: usize> Sink<L> for PairSink<'_, L> {
     #[inline(always)]
     fn put(&mut self, r: usize, c: usize, dq: Lanes<L>, dv: Lanes<L>, _: Lanes<L>) {
-        let at = r * self.w + c;
-        for l in 0..L {
-            let o = l * self.lane + at;
-            self.pair[o] = dq.0[l];
-            self.pair[o + self.np] = dv.0[l];
-        }
+        let at = r * self.nv + c;
+        self.pair[at] = dq;
+        self.pair[at + self.half] = dv;
     }
 }
 
@@ -170,10 +157,10 @@ fn articulated<const L: usize>(
     idx: &[usize; L],
 ) -> [bool; L] {
     let nv = model.nv();
-    let nn = nv * nv;
     let bodies = model.bodies();
     let dynamics = &data.dynamics;
     let tree = &data.tree;
+    let factor = &mut bufs.solve.factor;
     let mut singular = [false; L];
     bufs.articulated.fill(LArticulated::default());
     bufs.articulated_force.fill(LForce::ZERO);
@@ -201,14 +188,9 @@ fn articulated<const L: usize>(
                     singular[l] = true;
                 }
             }
-            for l in 0..L {
-                bufs.factor[l * nn + d * nv + d] = pivot.0[l];
-            }
+            factor[d * nv + d] = pivot;
             for &j in tree.ancestors(d) {
-                let x = rnea.s[j].dot(&u_col) * inverse;
-                for l in 0..L {
-                    bufs.factor[l * nn + d * nv + j] = x.0[l];
-                }
+                factor[d * nv + j] = rnea.s[j].dot(&u_col) * inverse;
             }
             bufs.u_column[d] = u_col;
             bufs.pivot_inverse[d] = inverse;
@@ -227,9 +209,10 @@ fn articulated<const L: usize>(
 }
 
 /// The forward-dynamics derivatives of the block of states `idx` of `(q, v, tau)` (inputs
-/// checked by the caller): `q̈` into `bufs.ddq`, and for lane `l < count` the matrices of state
-/// `idx[l]` into `dq`, `dv` and `dtau` (stacked `nv x nv`). The lanes whose pivot vanished are
-/// marked in the returned mask (their matrices are not to be trusted).
+/// checked by the caller; the first `count` are consecutive, the rest repeat the last): `q̈` into
+/// `bufs.ddq`, and for lane `l < count` the matrices of state `idx[l]` into `dq`, `dv` and
+/// `dtau` (stacked `nv x nv`, moved out of the lanes by `io`). The lanes whose pivot vanished
+/// are marked in the returned mask (their matrices are not to be trusted).
 #[inline(always)]
 #[allow(
     clippy::too_many_arguments,
@@ -245,10 +228,10 @@ pub(crate) fn aba_derivatives<const L: usize>(
     tau: &[f64],
     idx: &[usize; L],
     count: usize,
+    io: Io,
     out: [&mut [f64]; 3],
 ) -> [bool; L] {
     let nv = model.nv();
-    let nn = nv * nv;
     let bodies = model.bodies();
     for i in 1..bodies.len() {
         let (bias, force) = velocity_body(rnea, model, data, q, v, idx, i);
@@ -274,41 +257,25 @@ pub(crate) fn aba_derivatives<const L: usize>(
         let force = rnea.force[i];
         acceleration_body(rnea, b, i, ap, ai, force);
     }
-    let Some(tree) = bufs.tree.as_mut() else {
-        return singular;
-    };
-    let np = tree.padded();
-    let w = 2 * np;
-    let pair = &mut bufs.pair;
-    // The entries the sweep does not write are zero (the last block's solves overwrote them).
-    pair.fill(0.0);
+    let solve = &mut bufs.solve;
+    // The entries the sweep does not write are zero (the last block's solve overwrote them).
+    solve.pair.fill(Lanes::ZERO);
     let mut sink = PairSink {
-        pair: &mut pair[..],
-        lane: nv * w,
-        w,
-        np,
+        pair: &mut solve.pair[..],
+        half: solve.half,
+        nv,
     };
     backward(rnea, model, data, &mut sink);
     let dynamics = &data.dynamics;
     if dynamics.has_joint_terms {
         // As `backward::<true>`: the damping on the diagonal of `∂τ/∂v`.
-        for lane in pair.chunks_exact_mut(nv * w) {
-            for (k, damping) in dynamics.damping.iter().enumerate() {
-                lane[k * w + np + k] += damping;
-            }
+        for (k, damping) in dynamics.damping.iter().enumerate() {
+            let x = &mut solve.pair[solve.half + k * nv + k];
+            *x = *x + *damping;
         }
     }
-    let [dq, dv, dtau] = out;
-    for (l, &k) in idx.iter().enumerate().take(count) {
-        let h = &bufs.factor[l * nn..(l + 1) * nn];
-        let m = k * nn..(k + 1) * nn;
-        tree.invert(h, &mut dtau[m.clone()]);
-        tree.neg_solve_filled(
-            h,
-            &mut pair[l * nv * w..(l + 1) * nv * w],
-            &mut dq[m.clone()],
-            &mut dv[m],
-        );
-    }
+    solve.invert();
+    solve.neg_solve();
+    solve.store(io, idx[0], count, out);
     singular
 }

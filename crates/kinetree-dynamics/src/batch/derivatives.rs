@@ -7,7 +7,7 @@ use super::{check_aba_states, check_buffer, check_rnea_states, in_state, states,
 use crate::data::{JointTerms, sign};
 use crate::derivatives::DerivativesData;
 use crate::error::DynamicsError;
-use kinetree_kinematics::batch::{Simd, block_states};
+use kinetree_kinematics::batch::{Io, Simd, block_states};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::lanes::Lanes;
 
@@ -33,12 +33,14 @@ struct DerivativesLanes<const L: usize> {
     aba: AbaDerivativesLanes<L>,
 }
 
-/// The largest `nv` whose forward-dynamics derivatives run in lanes. Above it the one-state
-/// path is faster (measured at N = 1024 on AVX-512: the lane kernel was 1.3× one state at
-/// nv = 18, 1.0× at nv = 38 and 0.9× at nv = 50, where each lane's `nv x 2·nv` pair of the
-/// solves and the outputs outgrow the L2 cache). The inverse-dynamics derivatives write straight
-/// to the outputs and stay faster in lanes at every size measured (1.3–2× at nv = 38–50).
-const ABA_LANES_MAX_NV: usize = 32;
+/// The largest `nv` whose forward-dynamics derivatives run in lanes. With the solves in lanes
+/// too, the lane kernel was faster than one state at a time at every size measured (N = 1024,
+/// AVX-512, one thread: 3.4× at nv = 6, 2.7× at nv = 9, 2.0× at nv = 18, 1.3× at nv = 38,
+/// 1.1× at nv = 50);
+/// above 64 each block's pair of `nv x nv` lane matrices (`128·nv²` bytes) outgrows the L2
+/// cache, so the one-state path stays there. The inverse-dynamics derivatives write straight to
+/// the outputs and run in lanes at every size.
+const ABA_LANES_MAX_NV: usize = 64;
 
 impl<const L: usize> DerivativesLanes<L> {
     fn new(model: &Model, data: &DerivativesData) -> Self {
@@ -256,8 +258,8 @@ fn kernel<const L: usize>(
 /// `N · nv`, `N · nv`), `dddq_dq`, `dddq_dv` and `dddq_dtau` (each `N · nv · nv`, every state's
 /// `nv x nv` matrix row-major) receive `∂q̈/∂q`, `∂q̈/∂v` and `M⁻¹` as
 /// [`aba_derivatives`](crate::aba_derivatives) computes them, equal to them entry for entry.
-/// Up to 32 degrees of freedom the sweeps run in lanes (4 or 8 states at a time), above it one
-/// state at a time, whichever was faster. Allocates nothing.
+/// Up to 64 degrees of freedom the sweeps and the solves run in lanes (4 or 8 states at a
+/// time), above it one state at a time, whichever was faster. Allocates nothing.
 ///
 /// # Errors
 /// As [`rnea_derivatives_batch`]; the one-state error of a state whose mass matrix is singular
@@ -324,9 +326,10 @@ pub fn aba_derivatives_batch(
         return Ok(());
     }
     let data = &batch.data;
+    let io = Io::new(batch.simd);
     let first_bad = kinetree_kinematics::simd_dispatch!(
         batch.simd, DerivativesLanes, &mut batch.lanes4, &mut batch.lanes8, aba_kernel,
-        (model: &Model = model, data: &DerivativesData = data, q: &[f64] = q, v: &[f64] = v,
+        (io: Io = io, model: &Model = model, data: &DerivativesData = data, q: &[f64] = q, v: &[f64] = v,
          tau: &[f64] = tau, n: usize = n, dddq_dq: &mut [f64] = dddq_dq,
          dddq_dv: &mut [f64] = dddq_dv, dddq_dtau: &mut [f64] = dddq_dtau) -> Option<usize>
     );
@@ -369,6 +372,7 @@ fn all_finite(xs: &[f64]) -> bool {
 )]
 fn aba_kernel<const L: usize>(
     bufs: &mut DerivativesLanes<L>,
+    io: Io,
     model: &Model,
     data: &DerivativesData,
     q: &[f64],
@@ -386,7 +390,7 @@ fn aba_kernel<const L: usize>(
         let count = L.min(n - start);
         let out = [&mut *dddq_dq, &mut *dddq_dv, &mut *dddq_dtau];
         let (rnea, aba) = (&mut bufs.rnea, &mut bufs.aba);
-        let singular = aba_derivatives(rnea, aba, model, data, q, v, tau, &idx, count, out);
+        let singular = aba_derivatives(rnea, aba, model, data, q, v, tau, &idx, count, io, out);
         for l in 0..count {
             let m = (start + l) * nn..(start + l + 1) * nn;
             let finite = !singular[l]

@@ -38,6 +38,7 @@ mod articulated;
 mod composite;
 mod crba;
 mod derivatives;
+mod lane_solve;
 mod rnea;
 mod rnea_derivatives;
 

@@ -120,6 +120,13 @@ impl DofTree {
         &self.anc[self.anc_start[i]..self.anc_start[i + 1]]
     }
 
+    /// The columns of the padded pair (`2·np` wide) that the solve's first pass updates from
+    /// row `i`, as half-open ranges (the batched solves in lanes repeat them).
+    #[inline(always)]
+    pub(crate) fn segments(&self, i: usize) -> &[(usize, usize)] {
+        &self.seg[self.seg_start[i]..self.seg_start[i + 1]]
+    }
+
     /// The ancestors of `i`, and `L[i][j]` along them in `l` (`h` is the factor).
     #[inline(always)]
     fn row<'a>(

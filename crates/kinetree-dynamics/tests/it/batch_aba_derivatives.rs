@@ -242,3 +242,42 @@ fn batched_aba_derivatives_name_an_overflowing_or_singular_state() {
         );
     }
 }
+
+#[test]
+fn batched_aba_derivatives_of_a_large_tree_equal_the_one_state_ones() {
+    // Above the size whose solves run in lanes (nv > 64), the batch runs one state at a time:
+    // a branched tree of every joint kind with a floating base, with the joint terms.
+    let model =
+        kinetree_dynamics::model::samples::random_tree_with_root(11, 60, RootJoint::Floating);
+    let (nq, nv) = (model.nq(), model.nv());
+    assert!(nv > 64, "nv = {nv}");
+    let nn = nv * nv;
+    let mut data = DerivativesData::with_joint_terms(&model, JointTerms::FromModel);
+    let mut batch = DerivativesBatch::with_joint_terms(&model, JointTerms::FromModel);
+    let n = 3;
+    let (q, v, tau) = states(&model, n, 5);
+    let (mut dq, mut dv, mut minv) = (
+        vec![f64::NAN; n * nn],
+        vec![f64::NAN; n * nn],
+        vec![f64::NAN; n * nn],
+    );
+    aba_derivatives_batch(
+        &model, &mut batch, &q, &v, &tau, &mut dq, &mut dv, &mut minv,
+    )
+    .unwrap();
+    for k in 0..n {
+        let r = k * nv..(k + 1) * nv;
+        let one = aba_derivatives(
+            &model,
+            &mut data,
+            &q[k * nq..(k + 1) * nq],
+            &v[r.clone()],
+            &tau[r],
+        )
+        .unwrap();
+        let m = k * nn..(k + 1) * nn;
+        assert_bits(&dq[m.clone()], one.dddq_dq, &format!("state {k} dddq_dq"));
+        assert_bits(&dv[m.clone()], one.dddq_dv, &format!("state {k} dddq_dv"));
+        assert_bits(&minv[m], one.dddq_dtau, &format!("state {k} dddq_dtau"));
+    }
+}
