@@ -2,7 +2,7 @@
 //! [`aba_derivatives_batch`].
 
 use super::aba_derivatives::{AbaDerivativesLanes, aba_derivatives};
-use super::rnea_derivatives::{OutputSink, RneaDerivativesLanes, rnea_derivatives};
+use super::rnea_derivatives::{LaneSink, OutputSink, RneaDerivativesLanes, rnea_derivatives};
 use super::{check_aba_states, check_buffer, check_rnea_states, in_state, states, states_pass};
 use crate::data::{JointTerms, sign};
 use crate::derivatives::DerivativesData;
@@ -31,7 +31,19 @@ pub struct DerivativesBatch {
 struct DerivativesLanes<const L: usize> {
     rnea: RneaDerivativesLanes<L>,
     aba: AbaDerivativesLanes<L>,
+    /// Up to [`RNEA_LANES_OUT_MAX_NV`], the block's three inverse-dynamics matrices in lanes
+    /// (`∂τ/∂q`, `∂τ/∂v`, `∂τ/∂a`, each `nv x nv` from a multiple of 8), moved to the outputs
+    /// by the transposes; empty above it.
+    matrices: Vec<Lanes<L>>,
 }
+
+/// The largest `nv` whose inverse-dynamics derivatives are assembled in lane matrices and
+/// leave them through the transposes; above it each entry goes straight to its state's place.
+/// The lane matrices must be zeroed and moved out whole, so they pay only where most entries
+/// are nonzero (N = 1024, AVX-512, one thread, min of 4 alternating rounds, ns/state: panda
+/// 596 → 561, ur5 330 → 322, solo12 (nv = 18) 1357 → 1269; but talos_reduced (nv = 38) 4402 →
+/// 5265 and talos_full_v2 (nv = 50) 7605 → 8144, whose matrices are mostly zeros).
+const RNEA_LANES_OUT_MAX_NV: usize = 24;
 
 /// The largest `nv` whose forward-dynamics derivatives run in lanes. With the solves in lanes
 /// too, the lane kernel was faster than one state at a time at every size measured (N = 1024,
@@ -50,6 +62,11 @@ impl<const L: usize> DerivativesLanes<L> {
                 AbaDerivativesLanes::new(model, data)
             } else {
                 AbaDerivativesLanes::default()
+            },
+            matrices: if model.nv() <= RNEA_LANES_OUT_MAX_NV {
+                vec![Lanes::ZERO; 3 * (model.nv() * model.nv()).next_multiple_of(8)]
+            } else {
+                Vec::new()
             },
         }
     }
@@ -160,9 +177,10 @@ pub fn rnea_derivatives_batch(
         check_rnea_states(model, &batch.data.dynamics, (0, n), q, v, a)?;
     }
     let data = &batch.data;
+    let io = Io::new(batch.simd);
     let first_bad = kinetree_kinematics::simd_dispatch!(
         batch.simd, DerivativesLanes, &mut batch.lanes4, &mut batch.lanes8, kernel,
-        (model: &Model = model, data: &DerivativesData = data, q: &[f64] = q, v: &[f64] = v,
+        (io: Io = io, model: &Model = model, data: &DerivativesData = data, q: &[f64] = q, v: &[f64] = v,
          a: &[f64] = a, n: usize = n, dtau_dq: &mut [f64] = dtau_dq,
          dtau_dv: &mut [f64] = dtau_dv, dtau_da: &mut [f64] = dtau_da) -> Option<usize>
     );
@@ -190,6 +208,7 @@ pub fn rnea_derivatives_batch(
 )]
 fn kernel<const L: usize>(
     bufs: &mut DerivativesLanes<L>,
+    io: Io,
     model: &Model,
     data: &DerivativesData,
     q: &[f64],
@@ -203,28 +222,50 @@ fn kernel<const L: usize>(
     let nv = model.nv();
     let nn = nv * nv;
     let dynamics = &data.dynamics;
+    let matrices_len = bufs.matrices.len();
     let mut first_bad = None;
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
-        // The entries the sweep does not write are zero.
         let rows = start * nn..(start + count) * nn;
-        dtau_dq[rows.clone()].fill(0.0);
-        dtau_dv[rows.clone()].fill(0.0);
-        dtau_da[rows.clone()].fill(0.0);
-        let mut sink = OutputSink {
-            base: idx.map(|k| k * nn),
-            nv,
-            dq: &mut *dtau_dq,
-            dv: &mut *dtau_dv,
-            da: &mut *dtau_da,
-            probe: Lanes::ZERO,
+        let (rnea, matrices) = (&mut bufs.rnea, &mut bufs.matrices);
+        let probe = if matrices.is_empty() {
+            // The entries the sweep does not write are zero.
+            dtau_dq[rows.clone()].fill(0.0);
+            dtau_dv[rows.clone()].fill(0.0);
+            dtau_da[rows.clone()].fill(0.0);
+            let mut sink = OutputSink {
+                base: idx.map(|k| k * nn),
+                nv,
+                dq: &mut *dtau_dq,
+                dv: &mut *dtau_dv,
+                da: &mut *dtau_da,
+                probe: Lanes::ZERO,
+            };
+            rnea_derivatives(rnea, model, data, q, v, a, &idx, &mut sink);
+            sink.probe
+        } else {
+            // The entries the sweep does not write are zero.
+            matrices.fill(Lanes::ZERO);
+            let mut sink = LaneSink {
+                matrices: &mut matrices[..],
+                half: matrices_len / 3,
+                nv,
+                probe: Lanes::ZERO,
+            };
+            rnea_derivatives(rnea, model, data, q, v, a, &idx, &mut sink);
+            let probe = sink.probe;
+            let (xq, rest) = matrices.split_at(matrices_len / 3);
+            let (xv, xa) = rest.split_at(matrices_len / 3);
+            io.store_coordinates(xq, nn, dtau_dq, start, nn, count);
+            io.store_coordinates(xv, nn, dtau_dv, start, nn, count);
+            io.store_coordinates(xa, nn, dtau_da, start, nn, count);
+            probe
         };
-        let bufs = &mut bufs.rnea;
-        rnea_derivatives(bufs, model, data, q, v, a, &idx, &mut sink);
+        let bufs = &*rnea;
         // `x · 0` is zero for a finite `x` and NaN otherwise: one probe per lane for the whole
         // block.
-        let mut probe = sink.probe;
+        let mut probe = probe;
         for x in &bufs.tau {
             probe += *x * 0.0;
         }

@@ -206,3 +206,43 @@ fn batched_rnea_derivatives_name_an_overflowing_state() {
         .unwrap();
     }
 }
+
+#[test]
+fn batched_rnea_derivatives_of_a_large_tree_equal_the_one_state_ones() {
+    // Above the size whose matrices are assembled in lanes (nv > 64), each entry goes straight
+    // to its state's place: a branched tree of every joint kind with a floating base, with the
+    // joint terms, on every lane width.
+    let model =
+        kinetree_dynamics::model::samples::random_tree_with_root(7, 60, RootJoint::Floating);
+    let (nq, nv) = (model.nq(), model.nv());
+    assert!(nv > 64, "nv = {nv}");
+    let nn = nv * nv;
+    let mut data = DerivativesData::with_joint_terms(&model, JointTerms::FromModel);
+    for simd in SIMD {
+        let mut batch = DerivativesBatch::with_options(&model, JointTerms::FromModel, simd);
+        let n = 9;
+        let (q, v, a) = states(&model, n, 3);
+        let (mut dq, mut dv, mut da) = (
+            vec![f64::NAN; n * nn],
+            vec![f64::NAN; n * nn],
+            vec![f64::NAN; n * nn],
+        );
+        rnea_derivatives_batch(&model, &mut batch, &q, &v, &a, &mut dq, &mut dv, &mut da).unwrap();
+        for k in 0..n {
+            let r = k * nv..(k + 1) * nv;
+            let one = rnea_derivatives(
+                &model,
+                &mut data,
+                &q[k * nq..(k + 1) * nq],
+                &v[r.clone()],
+                &a[r],
+            )
+            .unwrap();
+            let m = k * nn..(k + 1) * nn;
+            let what = format!("{simd:?} state {k}");
+            assert_bits(&dq[m.clone()], one.dtau_dq, &format!("{what} dtau_dq"));
+            assert_bits(&dv[m.clone()], one.dtau_dv, &format!("{what} dtau_dv"));
+            assert_bits(&da[m], one.dtau_da, &format!("{what} dtau_da"));
+        }
+    }
+}
