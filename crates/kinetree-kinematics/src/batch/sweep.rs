@@ -34,8 +34,9 @@ pub(crate) struct LaneBuffers<const L: usize> {
     path_terms: Vec<PathTerm>,
     /// Each term's world-frame column for the block, computed as its body is placed.
     term_columns: LaneVec<LMotion<L>>,
-    /// For [`JacobianOut::Rows`]: the block's Jacobians as 6 rows of `nv` columns (each row
-    /// rounded up to 8 for `Io::store_coordinates`); the columns off the path stay zero.
+    /// For [`JacobianOut::Rows`]: the block's Jacobians as 6 rows of `nv` columns, one after
+    /// another (`6·nv` rounded up to 8 for `Io::store_coordinates`); the columns off the path
+    /// stay zero.
     rows: Vec<Lanes<L>>,
 }
 
@@ -119,7 +120,7 @@ impl<const L: usize> LaneBuffers<L> {
             path_bodies: Vec::with_capacity(model.nbodies()),
             path_terms: Vec::with_capacity(model.nv() + model.nbodies()),
             term_columns: LaneVec::new(LMotion::ZERO, model.nv() + model.nbodies()),
-            rows: vec![Lanes::ZERO; 6 * model.nv().next_multiple_of(8)],
+            rows: vec![Lanes::ZERO; (6 * model.nv()).next_multiple_of(8)],
         }
     }
 }
@@ -366,7 +367,6 @@ pub(crate) fn frame_jacobian<const L: usize>(
 ) -> Option<usize> {
     let model = shape.model;
     let (nq, nv) = (model.nq(), model.nv());
-    let nvp = nv.next_multiple_of(8);
     let bodies = model.bodies();
     let (body, body_from_frame) = body_and_placement;
     // The columns the path writes (a coupled mimic follower writes its leader's); every other
@@ -466,25 +466,20 @@ pub(crate) fn frame_jacobian<const L: usize>(
                 }
             }
             JacobianOut::Rows(out) if nv > 0 => {
-                // The path's columns into the rows, then each row of every state out through
-                // the transposes: each state's matrix is written once, in order, zeros and all.
+                // The path's columns into the rows, then each state's matrix out through the
+                // transposes as one record of `6·nv` numbers: written once, in order, zeros
+                // and all, with whole-vector stores (row by row, a row of `nv` numbers took a
+                // full and a masked store each, and the stores were a quarter of the kernel).
                 for &c in &bufs.path_columns {
                     let col = &bufs.columns[c];
                     let (a, b) = (&col.linear, &col.angular);
                     for (r, x) in [a.x, a.y, a.z, b.x, b.y, b.z].into_iter().enumerate() {
-                        bufs.rows[r * nvp + c] = x;
+                        bufs.rows[r * nv + c] = x;
                     }
                 }
-                for r in 0..6 {
-                    shape.io.store_coordinates(
-                        &bufs.rows[r * nvp..(r + 1) * nvp],
-                        nv,
-                        &mut out[(6 * start + r) * nv..],
-                        0,
-                        6 * nv,
-                        count,
-                    );
-                }
+                shape
+                    .io
+                    .store_coordinates(&bufs.rows, 6 * nv, out, start, 6 * nv, count);
             }
             JacobianOut::Rows(_) => {}
         }
