@@ -112,17 +112,9 @@ impl<const L: usize> LaneSolve<L> {
             let (above, below) = inverse.split_at_mut(i * nv);
             let row = &mut below[..nv];
             for (c, out) in row[..i].iter_mut().enumerate() {
-                let mut acc = Lanes::ZERO;
-                for (&j, &lj) in anc.iter().zip(l.iter()) {
-                    acc -= lj * above[j * nv + c];
-                }
-                *out = acc;
+                *out = minus_along(Lanes::ZERO, anc, l, above, nv, c);
             }
-            let mut diag = d.map(|d| 1.0 / d);
-            for (&j, &lj) in anc.iter().zip(l.iter()) {
-                diag -= lj * row[j];
-            }
-            row[i] = diag;
+            row[i] = minus_along(d.map(|d| 1.0 / d), anc, l, row, 1, 0);
             for (c, &x) in row[..i].iter().enumerate() {
                 above[c * nv + i] = x;
             }
@@ -166,11 +158,7 @@ impl<const L: usize> LaneSolve<L> {
             for x in &mut halves {
                 let (above, below) = x.split_at_mut(i * nv);
                 for (c, out) in below[..nv].iter_mut().enumerate() {
-                    let mut acc = *out * scale;
-                    for (&j, &lj) in anc.iter().zip(l.iter()) {
-                        acc -= lj * above[j * nv + c];
-                    }
-                    *out = acc;
+                    *out = minus_along(*out * scale, anc, l, above, nv, c);
                 }
             }
         }
@@ -193,4 +181,21 @@ impl<const L: usize> LaneSolve<L> {
         io.store_coordinates(xv, nn, dv, first, nn, count);
         io.store_coordinates(&self.inverse, nn, inverse, first, nn, count);
     }
+}
+
+/// `acc - Σ l[k]·m[anc[k]·stride + c]`, subtracted term by term in ancestor order (as the
+/// one-state `accumulate`).
+#[inline(always)]
+fn minus_along<const L: usize>(
+    mut acc: Lanes<L>,
+    anc: &[usize],
+    l: &[Lanes<L>],
+    m: &[Lanes<L>],
+    stride: usize,
+    c: usize,
+) -> Lanes<L> {
+    for (&j, &lj) in anc.iter().zip(l) {
+        acc -= lj * m[j * stride + c];
+    }
+    acc
 }

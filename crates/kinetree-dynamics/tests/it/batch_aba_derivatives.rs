@@ -26,10 +26,33 @@ fn assert_bits(got: &[f64], want: &[f64], what: &str) {
     }
 }
 
+/// Asserts the batched matrices `[dq, dv, minv]` of the stacked states `(q, v, tau)` equal
+/// `aba_derivatives`, state by state, bit for bit.
+fn assert_one_state(
+    model: &Model,
+    data: &mut DerivativesData,
+    (q, v, tau): (&[f64], &[f64], &[f64]),
+    [dq, dv, minv]: [&[f64]; 3],
+    what: &str,
+) {
+    let (nq, nv) = (model.nq(), model.nv());
+    let nn = nv * nv;
+    for k in 0..q.len() / nq {
+        let r = k * nv..(k + 1) * nv;
+        let qk = &q[k * nq..(k + 1) * nq];
+        let one = aba_derivatives(model, data, qk, &v[r.clone()], &tau[r]).unwrap();
+        let m = k * nn..(k + 1) * nn;
+        let what = format!("{what} state {k}");
+        assert_bits(&dq[m.clone()], one.dddq_dq, &format!("{what} dddq_dq"));
+        assert_bits(&dv[m.clone()], one.dddq_dv, &format!("{what} dddq_dv"));
+        assert_bits(&minv[m], one.dddq_dtau, &format!("{what} dddq_dtau"));
+    }
+}
+
 #[test]
 fn batched_aba_derivatives_equal_the_one_state_ones_bit_for_bit() {
     for (name, model) in all_models() {
-        let (nq, nv) = (model.nq(), model.nv());
+        let nv = model.nv();
         let nn = nv * nv;
         for terms in [JointTerms::Ignored, JointTerms::FromModel] {
             let mut data = DerivativesData::with_joint_terms(&model, terms);
@@ -50,22 +73,9 @@ fn batched_aba_derivatives_equal_the_one_state_ones_bit_for_bit() {
                         )
                         .unwrap();
                     }
-                    for k in 0..n {
-                        let r = k * nv..(k + 1) * nv;
-                        let one = aba_derivatives(
-                            &model,
-                            &mut data,
-                            &q[k * nq..(k + 1) * nq],
-                            &v[r.clone()],
-                            &tau[r],
-                        )
-                        .unwrap();
-                        let m = k * nn..(k + 1) * nn;
-                        let what = format!("{name} {terms:?} {simd:?} n={n} state {k}");
-                        assert_bits(&dq[m.clone()], one.dddq_dq, &format!("{what} dddq_dq"));
-                        assert_bits(&dv[m.clone()], one.dddq_dv, &format!("{what} dddq_dv"));
-                        assert_bits(&minv[m], one.dddq_dtau, &format!("{what} dddq_dtau"));
-                    }
+                    let what = format!("{name} {terms:?} {simd:?} n={n}");
+                    let outputs = [&dq[..], &dv[..], &minv[..]];
+                    assert_one_state(&model, &mut data, (&q, &v, &tau), outputs, &what);
                 }
             }
         }
@@ -249,7 +259,7 @@ fn batched_aba_derivatives_of_a_large_tree_equal_the_one_state_ones() {
     // a branched tree of every joint kind with a floating base, with the joint terms.
     let model =
         kinetree_dynamics::model::samples::random_tree_with_root(11, 60, RootJoint::Floating);
-    let (nq, nv) = (model.nq(), model.nv());
+    let nv = model.nv();
     assert!(nv > 64, "nv = {nv}");
     let nn = nv * nv;
     let mut data = DerivativesData::with_joint_terms(&model, JointTerms::FromModel);
@@ -265,19 +275,6 @@ fn batched_aba_derivatives_of_a_large_tree_equal_the_one_state_ones() {
         &model, &mut batch, &q, &v, &tau, &mut dq, &mut dv, &mut minv,
     )
     .unwrap();
-    for k in 0..n {
-        let r = k * nv..(k + 1) * nv;
-        let one = aba_derivatives(
-            &model,
-            &mut data,
-            &q[k * nq..(k + 1) * nq],
-            &v[r.clone()],
-            &tau[r],
-        )
-        .unwrap();
-        let m = k * nn..(k + 1) * nn;
-        assert_bits(&dq[m.clone()], one.dddq_dq, &format!("state {k} dddq_dq"));
-        assert_bits(&dv[m.clone()], one.dddq_dv, &format!("state {k} dddq_dv"));
-        assert_bits(&minv[m], one.dddq_dtau, &format!("state {k} dddq_dtau"));
-    }
+    let outputs = [&dq[..], &dv[..], &minv[..]];
+    assert_one_state(&model, &mut data, (&q, &v, &tau), outputs, "large tree");
 }

@@ -26,10 +26,33 @@ fn assert_bits(got: &[f64], want: &[f64], what: &str) {
     }
 }
 
+/// Asserts the batched matrices `[dq, dv, da]` of the stacked states `(q, v, a)` equal
+/// `rnea_derivatives`, state by state, bit for bit.
+fn assert_one_state(
+    model: &Model,
+    data: &mut DerivativesData,
+    (q, v, a): (&[f64], &[f64], &[f64]),
+    [dq, dv, da]: [&[f64]; 3],
+    what: &str,
+) {
+    let (nq, nv) = (model.nq(), model.nv());
+    let nn = nv * nv;
+    for k in 0..q.len() / nq {
+        let r = k * nv..(k + 1) * nv;
+        let qk = &q[k * nq..(k + 1) * nq];
+        let one = rnea_derivatives(model, data, qk, &v[r.clone()], &a[r]).unwrap();
+        let m = k * nn..(k + 1) * nn;
+        let what = format!("{what} state {k}");
+        assert_bits(&dq[m.clone()], one.dtau_dq, &format!("{what} dtau_dq"));
+        assert_bits(&dv[m.clone()], one.dtau_dv, &format!("{what} dtau_dv"));
+        assert_bits(&da[m], one.dtau_da, &format!("{what} dtau_da"));
+    }
+}
+
 #[test]
 fn batched_rnea_derivatives_equal_the_one_state_ones_bit_for_bit() {
     for (name, model) in all_models() {
-        let (nq, nv) = (model.nq(), model.nv());
+        let nv = model.nv();
         let nn = nv * nv;
         for terms in [JointTerms::Ignored, JointTerms::FromModel] {
             let mut data = DerivativesData::with_joint_terms(&model, terms);
@@ -47,22 +70,9 @@ fn batched_rnea_derivatives_equal_the_one_state_ones_bit_for_bit() {
                         &model, &mut batch, &q, &v, &a, &mut dq, &mut dv, &mut da,
                     )
                     .unwrap();
-                    for k in 0..n {
-                        let r = k * nv..(k + 1) * nv;
-                        let one = rnea_derivatives(
-                            &model,
-                            &mut data,
-                            &q[k * nq..(k + 1) * nq],
-                            &v[r.clone()],
-                            &a[r],
-                        )
-                        .unwrap();
-                        let m = k * nn..(k + 1) * nn;
-                        let what = format!("{name} {terms:?} {simd:?} n={n} state {k}");
-                        assert_bits(&dq[m.clone()], one.dtau_dq, &format!("{what} dtau_dq"));
-                        assert_bits(&dv[m.clone()], one.dtau_dv, &format!("{what} dtau_dv"));
-                        assert_bits(&da[m], one.dtau_da, &format!("{what} dtau_da"));
-                    }
+                    let what = format!("{name} {terms:?} {simd:?} n={n}");
+                    let outputs = [&dq[..], &dv[..], &da[..]];
+                    assert_one_state(&model, &mut data, (&q, &v, &a), outputs, &what);
                 }
             }
         }
@@ -214,7 +224,7 @@ fn batched_rnea_derivatives_of_a_large_tree_equal_the_one_state_ones() {
     // joint terms, on every lane width.
     let model =
         kinetree_dynamics::model::samples::random_tree_with_root(7, 60, RootJoint::Floating);
-    let (nq, nv) = (model.nq(), model.nv());
+    let nv = model.nv();
     assert!(nv > 64, "nv = {nv}");
     let nn = nv * nv;
     let mut data = DerivativesData::with_joint_terms(&model, JointTerms::FromModel);
@@ -228,21 +238,8 @@ fn batched_rnea_derivatives_of_a_large_tree_equal_the_one_state_ones() {
             vec![f64::NAN; n * nn],
         );
         rnea_derivatives_batch(&model, &mut batch, &q, &v, &a, &mut dq, &mut dv, &mut da).unwrap();
-        for k in 0..n {
-            let r = k * nv..(k + 1) * nv;
-            let one = rnea_derivatives(
-                &model,
-                &mut data,
-                &q[k * nq..(k + 1) * nq],
-                &v[r.clone()],
-                &a[r],
-            )
-            .unwrap();
-            let m = k * nn..(k + 1) * nn;
-            let what = format!("{simd:?} state {k}");
-            assert_bits(&dq[m.clone()], one.dtau_dq, &format!("{what} dtau_dq"));
-            assert_bits(&dv[m.clone()], one.dtau_dv, &format!("{what} dtau_dv"));
-            assert_bits(&da[m], one.dtau_da, &format!("{what} dtau_da"));
-        }
+        let outputs = [&dq[..], &dv[..], &da[..]];
+        let what = format!("{simd:?}");
+        assert_one_state(&model, &mut data, (&q, &v, &a), outputs, &what);
     }
 }
