@@ -358,15 +358,20 @@ pub(crate) fn crba<const L: usize>(
         for i in 1..bodies.len() {
             let b = &bodies[i];
             let jm = &joint_models[i];
-            let (x, rot) = match jm.axis_index() {
+            // Each arm copies its transform into place field by field: a tuple of the
+            // transform and the rotation was moved through the stack with `memcpy`.
+            bufs.joint_rot[i] = match jm.axis_index() {
                 Some((k, true)) => {
                     let (x, s, c) = revolute_axis_transform(k, b, q, nq, &idx);
-                    (x, LRotation::Axis { k, s, c })
+                    copy_se3(&mut bufs.parent_from_body[i], &x);
+                    LRotation::Axis { k, s, c }
                 }
-                _ => (body_transform(jm, b, q, nq, &idx), LRotation::Identity),
+                _ => {
+                    let x = body_transform(jm, b, q, nq, &idx);
+                    copy_se3(&mut bufs.parent_from_body[i], &x);
+                    LRotation::Identity
+                }
             };
-            copy_se3(&mut bufs.parent_from_body[i], &x);
-            bufs.joint_rot[i] = rot;
             bufs.composite[i] = LOrigin::splat(&data.body_inertia[i]);
         }
         let mut sink = Sink {
