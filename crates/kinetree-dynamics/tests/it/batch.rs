@@ -2,10 +2,10 @@
 //! the one-state algorithms, state by state, on every reference robot and a model with every
 //! joint kind (fixed and floating root) and a placed free joint, for batch sizes that do and do not fill the SIMD lanes.
 
-use crate::common::{all_models, stacked_states as states};
+use crate::common::{SIMD, SIZES, all_models, stacked_states as states};
 use kinetree_dynamics::batch::{DynamicsBatch, aba_batch, crba_batch, rnea_batch};
 use kinetree_dynamics::kinematics::batch::{
-    KinematicsBatch, Simd, forward_kinematics_batch, forward_kinematics_matrices_batch,
+    KinematicsBatch, forward_kinematics_batch, forward_kinematics_matrices_batch,
     frame_jacobian_batch, frame_jacobian_rows_batch,
 };
 use kinetree_dynamics::kinematics::{
@@ -57,12 +57,6 @@ fn se3_numbers(xs: &[Se3]) -> Vec<f64> {
 fn motion_numbers(xs: &[Motion]) -> Vec<f64> {
     xs.iter().flat_map(Motion::to_array).collect()
 }
-
-/// Every instruction set (those this CPU lacks fall back to one it has).
-const SIMD: [Simd; 3] = [Simd::Portable, Simd::Avx2, Simd::Avx512];
-
-/// Batch sizes: one state, lane widths and their neighbours, and a size no lane width divides.
-const SIZES: [usize; 5] = [1, 4, 8, 9, 19];
 
 #[test]
 fn batched_kinematics_equals_the_one_state_path() {

@@ -2,51 +2,29 @@
 //! state, on every reference robot and the every-joint-kind models, on every lane width, with
 //! and without the joint terms; and their errors.
 
-use crate::common::{all_models, stacked_states as states};
+use crate::common::{SIMD, SIZES, all_models, assert_matrices_per_state, stacked_states as states};
 use kinetree_dynamics::batch::{DerivativesBatch, aba_derivatives_batch};
-use kinetree_dynamics::kinematics::batch::Simd;
 use kinetree_dynamics::model::{Model, RootJoint};
 use kinetree_dynamics::{DerivativesData, DynamicsError, JointTerms, aba_derivatives};
 
-/// Every instruction set (those this CPU lacks fall back to one it has).
-const SIMD: [Simd; 3] = [Simd::Portable, Simd::Avx2, Simd::Avx512];
-
-/// Batch sizes: one state, lane widths and their neighbours, and a size no lane width divides.
-const SIZES: [usize; 5] = [1, 4, 8, 9, 19];
-
-/// Asserts `got` equals `want` bit for bit: the lane kernel repeats the one-state arithmetic in
-/// the same order.
-fn assert_bits(got: &[f64], want: &[f64], what: &str) {
-    assert_eq!(got.len(), want.len(), "{what}");
-    for (i, (g, w)) in got.iter().zip(want).enumerate() {
-        assert!(
-            g.to_bits() == w.to_bits(),
-            "{what}[{i}]: batched {g:e}, one-state {w:e}"
-        );
-    }
-}
-
-/// Asserts the batched matrices `[dq, dv, minv]` of the stacked states `(q, v, tau)` equal
-/// `aba_derivatives`, state by state, bit for bit.
+/// Asserts the batched matrices of the stacked states equal `aba_derivatives`, state by state,
+/// bit for bit.
 fn assert_one_state(
     model: &Model,
     data: &mut DerivativesData,
-    (q, v, tau): (&[f64], &[f64], &[f64]),
-    [dq, dv, minv]: [&[f64]; 3],
+    stacked: (&[f64], &[f64], &[f64]),
+    got: [&[f64]; 3],
     what: &str,
 ) {
-    let (nq, nv) = (model.nq(), model.nv());
-    let nn = nv * nv;
-    for k in 0..q.len() / nq {
-        let r = k * nv..(k + 1) * nv;
-        let qk = &q[k * nq..(k + 1) * nq];
-        let one = aba_derivatives(model, data, qk, &v[r.clone()], &tau[r]).unwrap();
-        let m = k * nn..(k + 1) * nn;
-        let what = format!("{what} state {k}");
-        assert_bits(&dq[m.clone()], one.dddq_dq, &format!("{what} dddq_dq"));
-        assert_bits(&dv[m.clone()], one.dddq_dv, &format!("{what} dddq_dv"));
-        assert_bits(&minv[m], one.dddq_dtau, &format!("{what} dddq_dtau"));
-    }
+    let names = ["dddq_dq", "dddq_dv", "dddq_dtau"];
+    assert_matrices_per_state(model, stacked, got, names, what, |q, v, x| {
+        let one = aba_derivatives(model, data, q, v, x).unwrap();
+        [
+            one.dddq_dq.to_vec(),
+            one.dddq_dv.to_vec(),
+            one.dddq_dtau.to_vec(),
+        ]
+    });
 }
 
 #[test]

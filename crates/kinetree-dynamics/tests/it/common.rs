@@ -1,6 +1,7 @@
 //! Shared helpers: the reference robots, their named states, random states and a model with one
 //! joint of every kind.
 
+use kinetree_dynamics::kinematics::batch::Simd;
 use kinetree_dynamics::kinematics::configuration::random_configuration;
 use kinetree_dynamics::model::spatial::glam::DVec3;
 use kinetree_dynamics::model::spatial::{Se3, Symmetric3};
@@ -225,4 +226,45 @@ pub(crate) fn mat_vec(m: &[f64], x: &[f64]) -> Vec<f64> {
     (0..n)
         .map(|i| (0..n).map(|j| m[i * n + j] * x[j]).sum())
         .collect()
+}
+
+/// Every instruction set of the batched kernels (those this CPU lacks fall back to one it has).
+pub(crate) const SIMD: [Simd; 3] = [Simd::Portable, Simd::Avx2, Simd::Avx512];
+
+/// Batch sizes: one state, lane widths and their neighbours, and a size no lane width divides.
+pub(crate) const SIZES: [usize; 5] = [1, 4, 8, 9, 19];
+
+/// Asserts `got` equals `want` bit for bit: the lane kernels repeat the one-state arithmetic in
+/// the same order.
+pub(crate) fn assert_bits(got: &[f64], want: &[f64], what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}");
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        assert!(
+            g.to_bits() == w.to_bits(),
+            "{what}[{i}]: batched {g:e}, one-state {w:e}"
+        );
+    }
+}
+
+/// Asserts the three stacked `nv x nv` matrices `got` (named `names`) of the stacked states
+/// `(q, v, x)` equal, state by state and bit for bit, the three that `one` computes for one
+/// state `(q, v, x)`.
+pub(crate) fn assert_matrices_per_state(
+    model: &Model,
+    (q, v, x): (&[f64], &[f64], &[f64]),
+    got: [&[f64]; 3],
+    names: [&str; 3],
+    what: &str,
+    mut one: impl FnMut(&[f64], &[f64], &[f64]) -> [Vec<f64>; 3],
+) {
+    let (nq, nv) = (model.nq(), model.nv());
+    let nn = nv * nv;
+    for k in 0..q.len() / nq {
+        let r = k * nv..(k + 1) * nv;
+        let want = one(&q[k * nq..(k + 1) * nq], &v[r.clone()], &x[r]);
+        let m = k * nn..(k + 1) * nn;
+        for ((got, want), name) in got.iter().zip(&want).zip(names) {
+            assert_bits(&got[m.clone()], want, &format!("{what} state {k} {name}"));
+        }
+    }
 }
