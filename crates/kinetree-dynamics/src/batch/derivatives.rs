@@ -33,7 +33,8 @@ struct DerivativesLanes<const L: usize> {
     aba: AbaDerivativesLanes<L>,
     /// Up to [`RNEA_LANES_OUT_MAX_NV`], the block's three inverse-dynamics matrices in lanes
     /// (`∂τ/∂q`, `∂τ/∂v`, `∂τ/∂a`, each `nv x nv` from a multiple of 8), moved to the outputs
-    /// by the transposes; empty above it.
+    /// by the transposes; empty above it. Only the kernel's `LaneSink` writes into it, always the
+    /// same entries, so the others keep their zeros from allocation.
     matrices: Vec<Lanes<L>>,
 }
 
@@ -199,6 +200,23 @@ pub fn rnea_derivatives_batch(
     Ok(())
 }
 
+/// `Σ x · 0` over `xs`: zero in a lane exactly when all its numbers are finite (four sums, so
+/// that the additions do not wait on one another).
+#[inline(always)]
+fn finiteness_probe<const L: usize>(xs: &[Lanes<L>]) -> Lanes<L> {
+    let mut sums = [Lanes::ZERO; 4];
+    let mut chunks = xs.chunks_exact(4);
+    for c in &mut chunks {
+        for (s, x) in sums.iter_mut().zip(c) {
+            *s += *x * 0.0;
+        }
+    }
+    for x in chunks.remainder() {
+        sums[0] += *x * 0.0;
+    }
+    (sums[0] + sums[1]) + (sums[2] + sums[3])
+}
+
 /// Runs the lane kernel, which writes each block's entries into the outputs; the first state with a non-finite `τ` or
 /// matrix entry (the one-state function's error), if any.
 #[inline(always)]
@@ -245,16 +263,15 @@ fn kernel<const L: usize>(
             rnea_derivatives(rnea, model, data, q, v, a, &idx, &mut sink);
             sink.probe
         } else {
-            // The entries the sweep does not write are zero.
-            matrices.fill(Lanes::ZERO);
+            // The sweep writes the same entries in every block (the pairs of joints of which
+            // one supports the other); the others stay the zeros of `DerivativesLanes::new`.
             let mut sink = LaneSink {
                 matrices: &mut matrices[..],
                 half: matrices_len / 3,
                 nv,
-                probe: Lanes::ZERO,
             };
             rnea_derivatives(rnea, model, data, q, v, a, &idx, &mut sink);
-            let probe = sink.probe;
+            let probe = finiteness_probe(matrices);
             let (xq, rest) = matrices.split_at(matrices_len / 3);
             let (xv, xa) = rest.split_at(matrices_len / 3);
             io.store_coordinates(xq, nn, dtau_dq, start, nn, count);

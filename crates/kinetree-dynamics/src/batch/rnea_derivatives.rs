@@ -263,19 +263,18 @@ impl<const L: usize> Sink<L> for OutputSink<'_, L> {
 }
 
 /// A [`Sink`] writing into the block's three matrices in lanes (`∂τ/∂q`, `∂τ/∂v`, `∂τ/∂a`,
-/// each `nv x nv` from a multiple of `half`), and a finiteness probe of everything written.
+/// each `nv x nv` from a multiple of `half`); the caller probes them for finiteness once the
+/// sweep is done (a probe per entry, carried from one entry to the next, cost more than the
+/// loop over the whole buffer).
 pub(crate) struct LaneSink<'a, const L: usize> {
     pub(crate) matrices: &'a mut [Lanes<L>],
     pub(crate) half: usize,
     pub(crate) nv: usize,
-    /// `Σ x · 0` over the entries: zero in a lane exactly when its entries are finite.
-    pub(crate) probe: Lanes<L>,
 }
 
 impl<const L: usize> Sink<L> for LaneSink<'_, L> {
     #[inline(always)]
     fn put(&mut self, r: usize, c: usize, dq: Lanes<L>, dv: Lanes<L>, da: Lanes<L>) {
-        self.probe += dq * 0.0 + dv * 0.0 + da * 0.0;
         let at = r * self.nv + c;
         self.matrices[at] = dq;
         self.matrices[at + self.half] = dv;
