@@ -107,12 +107,24 @@ pub(crate) struct AbaDerivativesLanes<const L: usize> {
     pub(crate) ddq: Vec<Lanes<L>>,
     /// Each lane's factor, pair and `M⁻¹` for the solves.
     solve: LaneSolve<L>,
+    /// The entries of the pair that the sweep does not write (row and column of two degrees of
+    /// freedom neither of which supports the other, in both halves): the solve of the previous
+    /// block left them nonzero.
+    unrelated: Vec<usize>,
 }
 
 impl<const L: usize> AbaDerivativesLanes<L> {
     pub(crate) fn new(model: &Model, data: &DerivativesData) -> Self {
         let (nb, nv) = (model.nbodies(), model.nv());
         let x = |n| vec![Lanes::ZERO; n];
+        let tree = &data.tree;
+        let solve = LaneSolve::new(tree.clone(), nv);
+        let half = solve.half;
+        let supports = |a: usize, b: usize| a == b || tree.ancestors(b).contains(&a);
+        let unrelated = (0..nv * nv)
+            .filter(|&k| !supports(k / nv, k % nv) && !supports(k % nv, k / nv))
+            .flat_map(|k| [k, k + half])
+            .collect();
         Self {
             bias: LaneVec::new(LMotion::ZERO, nb),
             articulated: LaneVec::new(LArticulated::default(), nb),
@@ -121,7 +133,8 @@ impl<const L: usize> AbaDerivativesLanes<L> {
             pivot_inverse: x(nv),
             u: x(nv),
             ddq: x(nv),
-            solve: LaneSolve::new(data.tree.clone(), nv),
+            solve,
+            unrelated,
         }
     }
 }
@@ -259,7 +272,9 @@ pub(crate) fn aba_derivatives<const L: usize>(
     }
     let solve = &mut bufs.solve;
     // The entries the sweep does not write are zero (the last block's solve overwrote them).
-    solve.pair.fill(Lanes::ZERO);
+    for &k in &bufs.unrelated {
+        solve.pair[k] = Lanes::ZERO;
+    }
     let mut sink = PairSink {
         pair: &mut solve.pair[..],
         half: solve.half,
