@@ -3,7 +3,7 @@
 
 use crate::arrays::{
     BLOCKS_PER_THREAD, BlockResult, INLINE_STATES, LANES, States, apart, batch_count,
-    checked_block, copies_apart, fits, output, shape_text, stack_failure,
+    checked_block, copies_apart, fits, output, par_blocks, shape_text, stack_failure,
 };
 use crate::errors::{Family, to_py};
 use crate::model::PyModel;
@@ -13,7 +13,6 @@ use numpy::ndarray::IxDyn;
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyList, PyTuple};
-use rayon::prelude::*;
 use std::ops::Range;
 
 /// The `P` result arrays, of shape `(nv, nv)`, or `(N, nv, nv)` for `count = Some(N)`: the
@@ -184,7 +183,7 @@ where
         let result = if n <= INLINE_STATES {
             blocks.into_iter().try_for_each(run)
         } else {
-            py.detach(|| blocks.into_par_iter().try_for_each(run))
+            py.detach(|| par_blocks(blocks, run))
         };
         result.map_err(|failed| stack_failure(inputs, family, failed))
     })
@@ -241,7 +240,7 @@ where
                 (b * per, ((b + 1) * per).min(n), rows)
             })
             .collect();
-        py.detach(|| blocks.into_par_iter().try_for_each(run))
+        py.detach(|| par_blocks(blocks, run))
             .map_err(|failed| stack_failure(inputs, family, failed))
     })
 }
