@@ -460,7 +460,8 @@ pub(crate) fn stack_failure(
 }
 
 /// Runs `run` on every block, on the calling thread and on rayon's workers at once, each
-/// taking the next block no one has taken; returns the error of the lowest failing state.
+/// taking the next block no one has taken; returns the error of the lowest failing state
+/// (whichever thread ran its block).
 ///
 /// The calling thread starts at once instead of waiting for a sleeping worker to pick the call
 /// up: on this project's 2-vCPU VM a worker woken after a few milliseconds idle took about as
