@@ -147,6 +147,55 @@ fn a_bad_state_keeps_its_index_across_blocks() {
     );
 }
 
+/// From outside any pool a batch is cut in blocks that the threads take in whatever order they
+/// come; inside a pool it is split once per thread. Either way the first bad state is named,
+/// whichever block fails first, and the states that can be computed match the one-core numbers.
+#[test]
+fn the_first_bad_state_is_named_whichever_thread_gets_there_first() {
+    let model = robot("panda.urdf", RootJoint::Fixed);
+    let (n, nv) = (300, model.nv());
+    let (mut q, v, a) = states(&model, n);
+    let mut tau = vec![0.0; n * nv];
+    rnea_batch(
+        &model,
+        &mut DynamicsBatch::new(&model),
+        &q,
+        &v,
+        &a,
+        &mut tau,
+    )
+    .unwrap();
+    for bad in [250, 130, 41] {
+        q[bad * model.nq() + 3] = f64::NAN;
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap();
+    for threads in [2, 3, 8] {
+        let mut pd = Parallel::<DynamicsBatch>::with_threads(&model, threads);
+        for round in 0..20 {
+            let mut out = vec![f64::NAN; n * nv];
+            let err = if round % 2 == 0 {
+                par::rnea_batch(&model, &mut pd, &q, &v, &a, &mut out)
+            } else {
+                pool.install(|| par::rnea_batch(&model, &mut pd, &q, &v, &a, &mut out))
+            }
+            .unwrap_err();
+            assert!(
+                matches!(err, DynamicsError::InBatchState { index: 41, .. }),
+                "{threads} threads, round {round}: {err:?}"
+            );
+            if round % 2 == 0 {
+                // Blocks (16 or 24 states here) without a bad state were all computed, whatever
+                // the order the threads took them in.
+                assert_eq!(out[..24 * nv], tau[..24 * nv], "{threads} threads");
+                assert_eq!(out[264 * nv..], tau[264 * nv..], "{threads} threads");
+            }
+        }
+    }
+}
+
 #[test]
 fn collision_batches_split_without_changing_a_number() {
     use kinetree::collision::batch::{CollisionBatch, distances_batch, min_distance_batch};
