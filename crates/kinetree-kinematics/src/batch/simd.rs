@@ -147,22 +147,31 @@ macro_rules! with_simd {
     }};
 }
 
-/// Makes the frame of the kernel this is inlined into 64-byte aligned, so that the compiler lays
-/// out its 512-bit register spills on whole cache lines (an aligned local whose address escapes
-/// makes it realign the stack pointer on entry, and spill slots then take their natural
-/// alignment). Without it a kernel's frame lies wherever its caller's stack depth puts it, only
-/// 16-byte aligned: most spills and reloads of a block then straddle two lines, and the same
-/// kernel ran up to 20 % slower or faster from one build or process to the next (batched RNEA
-/// on the panda: 100–122 ns/state across stack offsets before, 97–104 after).
+/// Makes the frame of the kernel this is inlined into start on a page (an aligned local whose
+/// address escapes makes the compiler realign the stack pointer on entry; the local itself is
+/// never written). Two effects, both measured on the 512-bit kernels:
+/// - spill slots take their natural alignment, so the kernel's many 512-bit register spills no
+///   longer straddle two cache lines wherever the caller's stack depth put a frame that was
+///   only 16-byte aligned;
+/// - the frame sits at the same offset within a page on every call, from every thread, so its
+///   spill slots alias (same address modulo 4 KiB, which the processor's store-to-load checks
+///   compare first) the same lines of the workspace every time, not whichever the caller's
+///   stack depth picked.
+///
+/// Before, the same kernel ran up to 20 % faster or slower from one process or build to the
+/// next: batched RNEA on the panda, 100–122 ns/state with the stack's offset; with the frame
+/// on a page, 97–99 at every offset, alone or on two threads at once.
 #[doc(hidden)]
 #[inline(always)]
-pub fn align_frame_64() {
-    #[repr(C, align(64))]
-    struct Line([u8; 64]);
-    core::hint::black_box(&Line([0; 64]));
+pub fn align_frame_page() {
+    #[repr(C, align(4096))]
+    struct Page([u8; 64]);
+    let page = core::mem::MaybeUninit::<Page>::uninit();
+    core::hint::black_box(page.as_ptr());
 }
 
-/// [`align_frame_64`] for 256-bit kernels: their frame 32-byte aligned.
+/// For 256-bit kernels: their frame 32-byte aligned, so that their spills do not straddle
+/// cache lines (the page alignment of [`align_frame_page`] is not measured on them).
 #[doc(hidden)]
 #[inline(always)]
 pub fn align_frame_32() {
@@ -191,7 +200,7 @@ macro_rules! simd_dispatch {
         #[target_feature(enable = "avx512f")]
         #[allow(clippy::too_many_arguments, reason = "the kernel's own arguments, passed through")]
         fn avx512(b: &mut $buf<8>, $($a: $t),*) -> $r {
-            $crate::batch::align_frame_64();
+            $crate::batch::align_frame_page();
             $kernel::<8>(b, $($a),*)
         }
         match $simd {
