@@ -13,8 +13,8 @@
 //! - Called from any other thread, the calling thread works too: it starts on the first of
 //!   smaller blocks at once, and the pool's threads take the others as they come. A worker idle
 //!   for a few milliseconds sleeps and takes a while to wake; this way it no longer delays the
-//!   batch (the panda's CRBA on 1 024 states after 1 ms of other work: 200-210 ns/state before,
-//!   95-110 now on 2 cores).
+//!   batch (the panda's CRBA on 1 024 states after 1 ms of other work: 201-220 ns/state before,
+//!   94-112 now on 2 cores).
 //!
 //! Nothing is allocated per call after [`Parallel::new`] (rayon's pool itself is started on
 //! first use), but for one small job per extra thread spawned into the pool by a call from
@@ -92,7 +92,8 @@ impl<W: Workspace> Parallel<W> {
 }
 
 impl<W> Parallel<W> {
-    /// One workspace per thread, `threads` of them (at least one), built by `make` (for workspaces with options, such as
+    /// One workspace per thread, `threads` of them (at least one), built by `make` (for
+    /// workspaces with options, such as
     /// [`DynamicsBatch::with_joint_terms`](crate::dynamics::batch::DynamicsBatch::with_joint_terms)).
     #[must_use]
     pub fn from_fn(threads: usize, make: impl FnMut(usize) -> W) -> Self {
