@@ -13,8 +13,8 @@
 //! - Called from any other thread, the calling thread works too: it starts on the first of
 //!   smaller blocks at once, and the pool's threads take the others as they come. A worker idle
 //!   for a few milliseconds sleeps and takes a while to wake; this way it no longer delays the
-//!   batch (the panda's CRBA on 1 024 states after 1 ms of other work: 201-220 ns/state before,
-//!   94-112 now on 2 cores).
+//!   batch ([`Parallel::for_each_block`], public for batches of other shapes; the panda's CRBA
+//!   on 1 024 states after 1 ms of other work: 201-220 ns/state before, 94-112 now on 2 cores).
 //!
 //! Nothing is allocated per call after [`Parallel::new`] (rayon's pool itself is started on
 //! first use), but for one small job per extra thread spawned into the pool by a call from
@@ -169,17 +169,20 @@ split_tuple!(A, B, C, D);
 /// block (its checks and set-up) is noise.
 const BLOCKS_PER_WORKER: usize = 8;
 
-/// At most this many blocks in one batch (they are kept on the stack).
+/// Blocks kept on the stack by [`Parallel::for_each_block`] (more are put in a `Vec`); a batch
+/// of [`run`] is cut in at most this many.
 const MAX_BLOCKS: usize = 64;
 
 /// States per block at least, unless the batch is smaller.
 const MIN_BLOCK: usize = 2 * ALIGN;
 
-/// The states of a batch, cut in blocks that the threads take in turn.
-struct Blocks<S, E> {
-    /// Block `i` (its first state and its parts) until a thread takes it.
-    slots: [Mutex<Option<(usize, S)>>; MAX_BLOCKS],
-    /// How many of `slots` hold a block.
+/// The blocks of a [`Parallel::for_each_block`] call, which the threads take in turn.
+struct Queue<T, E> {
+    /// Block `i < MAX_BLOCKS` until a thread takes it.
+    slots: [Mutex<Option<T>>; MAX_BLOCKS],
+    /// Block `MAX_BLOCKS + i` until a thread takes it.
+    more: Vec<Mutex<Option<T>>>,
+    /// How many blocks there are.
     count: usize,
     /// The next block to take.
     next: AtomicUsize,
@@ -193,48 +196,105 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-impl<S: Split, E> Blocks<S, E> {
-    /// `parts` (of `n` states) cut in blocks of `size` states (a multiple of [`ALIGN`]).
-    fn new(parts: S, n: usize, size: usize) -> Self {
-        let slots: [Mutex<Option<(usize, S)>>; MAX_BLOCKS] =
-            core::array::from_fn(|_| Mutex::new(None));
-        let (mut rest, mut first, mut count) = (Some(parts), 0, 0);
-        while let Some(p) = rest.take() {
-            let block = if n - first > size && count + 1 < MAX_BLOCKS {
-                let (a, b) = p.split_at_state(size);
-                rest = Some(b);
-                a
-            } else {
-                p
-            };
-            *lock(&slots[count]) = Some((first, block));
-            first += size;
-            count += 1;
-        }
+impl<T, E> Queue<T, E> {
+    fn new(blocks: impl IntoIterator<Item = T>) -> Self {
+        let mut blocks = blocks.into_iter();
+        let mut count = 0;
+        let slots = core::array::from_fn(|_| {
+            let block = blocks.next();
+            count += usize::from(block.is_some());
+            Mutex::new(block)
+        });
+        let more: Vec<_> = blocks.map(|b| Mutex::new(Some(b))).collect();
         Self {
             slots,
-            count,
+            count: count + more.len(),
+            more,
             next: AtomicUsize::new(0),
             failed: Mutex::new(None),
         }
     }
 
     /// Runs `f` with `w` on blocks until none is left, keeping the lowest block's error.
-    fn drain<W>(&self, w: &mut W, f: &impl Fn(&mut W, S, usize) -> Result<(), E>) {
+    fn drain<W>(&self, w: &mut W, f: &impl Fn(&mut W, T) -> Result<(), E>) {
         loop {
             let i = self.next.fetch_add(1, Ordering::Relaxed);
-            if i >= self.count {
-                return;
-            }
-            let Some((first, block)) = lock(&self.slots[i]).take() else {
+            let slot = match i.checked_sub(MAX_BLOCKS) {
+                _ if i >= self.count => return,
+                None => &self.slots[i],
+                Some(j) => &self.more[j],
+            };
+            let Some(block) = lock(slot).take() else {
                 continue;
             };
-            if let Err(e) = f(w, block, first) {
+            if let Err(e) = f(w, block) {
                 let mut failed = lock(&self.failed);
                 if failed.as_ref().is_none_or(|(j, _)| i < *j) {
                     *failed = Some((i, e));
                 }
             }
+        }
+    }
+}
+
+impl<W: Send> Parallel<W> {
+    /// Runs `f` on every block of `blocks`, each with one workspace, on as many threads as
+    /// there are workspaces: the calling thread starts on the first block at once, and one job
+    /// per other workspace, spawned into rayon's current pool, takes the next block no thread
+    /// has taken as its thread comes. A worker asleep after a few milliseconds without work
+    /// joins late instead of delaying the whole call, and a thread slowed down by other work
+    /// takes fewer blocks.
+    ///
+    /// This is what the batched functions of this module run on when called from outside the
+    /// pool; it is public for batches of other shapes (the Python package cuts its stacked
+    /// calls with it). Nothing is allocated for at most 64 blocks but one small job per extra
+    /// thread.
+    ///
+    /// # Errors
+    /// The error of the first block (in the order of `blocks`) for which `f` failed, whichever
+    /// thread ran it. Every other block is still run.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinetree::parallel::Parallel;
+    /// use std::sync::atomic::{AtomicU64, Ordering};
+    ///
+    /// // Blocks of 100 numbers on two threads, with no workspace (`()`): each adds its sum to
+    /// // a total, and fails if it holds a number above 650.
+    /// let numbers: Vec<u64> = (0..1000).collect();
+    /// let total = AtomicU64::new(0);
+    /// let mut threads = Parallel::from_fn(2, |_| ());
+    /// let result = threads.for_each_block(numbers.chunks(100).enumerate(), &|_, (i, block)| {
+    ///     total.fetch_add(block.iter().sum(), Ordering::Relaxed);
+    ///     if block.iter().any(|&x| x > 650) { Err(format!("block {i}")) } else { Ok(()) }
+    /// });
+    /// // Every block ran; blocks 6 to 9 failed, and the first of them is reported.
+    /// assert_eq!(total.into_inner(), 499_500);
+    /// assert_eq!(result, Err("block 6".to_string()));
+    /// ```
+    pub fn for_each_block<T: Send, E: Send>(
+        &mut self,
+        blocks: impl IntoIterator<Item = T>,
+        f: &(impl Fn(&mut W, T) -> Result<(), E> + Sync),
+    ) -> Result<(), E> {
+        let queue = Queue::new(blocks);
+        // A `Parallel` holds at least one workspace.
+        let (own, helpers) = self.workers.split_at_mut(1);
+        let used = queue.count.saturating_sub(1).min(helpers.len());
+        rayon::in_place_scope(|s| {
+            for w in &mut helpers[..used] {
+                let queue = &queue;
+                s.spawn(move |_| queue.drain(w, f));
+            }
+            queue.drain(&mut own[0], f);
+        });
+        match queue
+            .failed
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner)
+        {
+            Some((_, e)) => Err(e),
+            None => Ok(()),
         }
     }
 }
@@ -247,43 +307,40 @@ impl<S: Split, E> Blocks<S, E> {
 ///   block that no other thread has taken by the time the caller is done is run by the caller.
 /// - From any other thread, `join` would hand the whole batch to the pool and put the caller to
 ///   sleep until a worker has woken up and finished it. Instead the states are cut in smaller
-///   blocks ([`BLOCKS_PER_WORKER`] per workspace) that the caller starts on at once, and that one
-///   small job per other workspace, spawned into the pool, takes as its thread comes: a worker
-///   that was asleep (after a few milliseconds without work) joins late instead of delaying the
-///   whole batch.
+///   blocks ([`BLOCKS_PER_WORKER`] per workspace) run by [`Parallel::for_each_block`], which
+///   the caller starts on at once.
 fn run<W: Send, S: Split, E: Send>(
-    workers: &mut [W],
+    pool: &mut Parallel<W>,
     n: usize,
     parts: S,
     f: &(impl Fn(&mut W, S, usize) -> Result<(), E> + Sync),
 ) -> Result<(), E> {
     if rayon::current_thread_index().is_some() {
-        return split(workers, n, 0, parts, f);
+        return split(&mut pool.workers, n, 0, parts, f);
     }
     let size = n
-        .div_ceil(workers.len() * BLOCKS_PER_WORKER)
+        .div_ceil(pool.workers.len() * BLOCKS_PER_WORKER)
         .max(n.div_ceil(MAX_BLOCKS))
         .max(MIN_BLOCK)
         .next_multiple_of(ALIGN);
-    // A `Parallel` holds at least one workspace.
-    if workers.len() == 1 || n <= size {
-        return f(&mut workers[0], parts, 0);
+    if pool.workers.len() == 1 || n <= size {
+        return f(&mut pool.workers[0], parts, 0);
     }
-    let blocks = Blocks::new(parts, n, size);
-    let (own, helpers) = workers.split_at_mut(1);
-    let used = (blocks.count - 1).min(helpers.len());
-    rayon::in_place_scope(|s| {
-        for w in &mut helpers[..used] {
-            let blocks = &blocks;
-            s.spawn(move |_| blocks.drain(w, f));
-        }
-        blocks.drain(&mut own[0], f);
+    // Blocks of `size` states, the last one shorter.
+    let (mut rest, mut first) = (Some(parts), 0);
+    let blocks = core::iter::from_fn(|| {
+        let p = rest.take()?;
+        let block = if n - first > size {
+            let (a, b) = p.split_at_state(size);
+            rest = Some(b);
+            a
+        } else {
+            p
+        };
+        first += size;
+        Some((first - size, block))
     });
-    let failed = blocks.failed.into_inner();
-    match failed.unwrap_or_else(PoisonError::into_inner) {
-        Some((_, e)) => Err(e),
-        None => Ok(()),
-    }
+    pool.for_each_block(blocks, &|w, (first, block)| f(w, block, first))
 }
 
 /// [`run`] on a thread of a pool: `workers.len()` contiguous blocks of the `n` states of
@@ -350,7 +407,7 @@ pub fn forward_kinematics_batch(
         Out(world_from_link, nl),
         world_from_frame.map(|f| Out(f, nf)),
     );
-    run(&mut pool.workers, n, parts, &|w, (q, l, f), first| {
+    run(pool, n, parts, &|w, (q, l, f), first| {
         kb::forward_kinematics_batch(model, w, q.0, l.0, f.map(|f| f.0))
             .map_err(|e| shift_kinematics(e, first))
     })
@@ -381,7 +438,7 @@ pub fn forward_kinematics_matrices_batch(
         return kb::forward_kinematics_matrices_batch(model, &mut pool.workers[0], q, links, out);
     }
     let parts = (In(q, nq), Out(out, per_state));
-    run(&mut pool.workers, n, parts, &|w, (q, o), first| {
+    run(pool, n, parts, &|w, (q, o), first| {
         kb::forward_kinematics_matrices_batch(model, w, q.0, links, o.0)
             .map_err(|e| shift_kinematics(e, first))
     })
@@ -409,7 +466,7 @@ pub fn frame_jacobian_batch(
         return kb::frame_jacobian_batch(model, &mut pool.workers[0], q, frame, reference, out);
     }
     let parts = (In(q, nq), Out(out, nv));
-    run(&mut pool.workers, n, parts, &|w, (q, o), first| {
+    run(pool, n, parts, &|w, (q, o), first| {
         kb::frame_jacobian_batch(model, w, q.0, frame, reference, o.0)
             .map_err(|e| shift_kinematics(e, first))
     })
@@ -445,7 +502,7 @@ pub fn frame_jacobian_rows_batch(
         );
     }
     let parts = (In(q, nq), Out(out, 6 * nv));
-    run(&mut pool.workers, n, parts, &|w, (q, o), first| {
+    run(pool, n, parts, &|w, (q, o), first| {
         kb::frame_jacobian_rows_batch(model, w, q.0, frame, reference, o.0)
             .map_err(|e| shift_kinematics(e, first))
     })
@@ -506,7 +563,7 @@ mod dynamics {
             return db::rnea_batch(model, &mut pool.workers[0], q, v, a, tau);
         };
         let parts = (In(q, nq), In(v, nv), In(a, nv), Out(tau, nv));
-        run(&mut pool.workers, n, parts, &|w, (q, v, a, t), first| {
+        run(pool, n, parts, &|w, (q, v, a, t), first| {
             db::rnea_batch(model, w, q.0, v.0, a.0, t.0).map_err(|e| shift(e, first))
         })
     }
@@ -528,7 +585,7 @@ mod dynamics {
             return db::aba_batch(model, &mut pool.workers[0], q, v, tau, ddq);
         };
         let parts = (In(q, nq), In(v, nv), In(tau, nv), Out(ddq, nv));
-        run(&mut pool.workers, n, parts, &|w, (q, v, t, o), first| {
+        run(pool, n, parts, &|w, (q, v, t, o), first| {
             db::aba_batch(model, w, q.0, v.0, t.0, o.0).map_err(|e| shift(e, first))
         })
     }
@@ -548,7 +605,7 @@ mod dynamics {
             return db::crba_batch(model, &mut pool.workers[0], q, mass_matrix);
         };
         let parts = (In(q, nq), Out(mass_matrix, nv * nv));
-        run(&mut pool.workers, n, parts, &|w, (q, m), first| {
+        run(pool, n, parts, &|w, (q, m), first| {
             db::crba_batch(model, w, q.0, m.0).map_err(|e| shift(e, first))
         })
     }
@@ -628,14 +685,9 @@ mod dynamics {
         };
         let inputs = (In(q, nq), In(v, nv), In(x, nv));
         let outputs = (Out(o0, nn), Out(o1, nn), Out(o2, nn));
-        run(
-            &mut pool.workers,
-            n,
-            (inputs, outputs),
-            &|w, (i, o), first| {
-                f(model, w, i.0.0, i.1.0, i.2.0, o.0.0, o.1.0, o.2.0).map_err(|e| shift(e, first))
-            },
-        )
+        run(pool, n, (inputs, outputs), &|w, (i, o), first| {
+            f(model, w, i.0.0, i.1.0, i.2.0, o.0.0, o.1.0, o.2.0).map_err(|e| shift(e, first))
+        })
     }
 }
 
@@ -683,7 +735,7 @@ mod collision {
             return cb::distances_batch(model, cmodel, &mut pool.workers[0], q, distances);
         };
         let parts = (In(q, nq), Out(distances, np));
-        run(&mut pool.workers, n, parts, &|w, (q, d), first| {
+        run(pool, n, parts, &|w, (q, d), first| {
             cb::distances_batch(model, cmodel, w, q.0, d.0).map_err(|e| shift(e, first))
         })
     }
@@ -704,7 +756,7 @@ mod collision {
             return cb::min_distance_batch(model, cmodel, &mut pool.workers[0], q, min);
         };
         let parts = (In(q, nq), Out(min, 1));
-        run(&mut pool.workers, n, parts, &|w, (q, m), first| {
+        run(pool, n, parts, &|w, (q, m), first| {
             cb::min_distance_batch(model, cmodel, w, q.0, m.0).map_err(|e| shift(e, first))
         })
     }

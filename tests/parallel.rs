@@ -196,6 +196,44 @@ fn the_first_bad_state_is_named_whichever_thread_gets_there_first() {
     }
 }
 
+/// `Parallel::for_each_block` runs every block once, whichever thread takes it, past the 64
+/// blocks it keeps on the stack too, and reports the first failing block in the order given.
+#[test]
+fn every_block_runs_once_and_the_first_failure_is_reported() {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    for count in [0, 1, 63, 64, 65, 200] {
+        for threads in [1, 2, 5] {
+            for (round, failing) in [vec![], vec![0], vec![150, 70, 63], vec![199, 64]]
+                .into_iter()
+                .enumerate()
+            {
+                let runs: Vec<AtomicU32> = (0..count).map(|_| AtomicU32::new(0)).collect();
+                let mut workers = Parallel::from_fn(threads, |_| ());
+                let f = |_: &mut (), b: usize| {
+                    runs[b].fetch_add(1, Ordering::Relaxed);
+                    if failing.contains(&b) { Err(b) } else { Ok(()) }
+                };
+                let result = if round % 2 == 0 {
+                    workers.for_each_block(0..count, &f)
+                } else {
+                    pool.install(|| workers.for_each_block(0..count, &f))
+                };
+                let what = format!("{count} blocks, {threads} threads, failing {failing:?}");
+                assert!(
+                    runs.iter().all(|r| r.load(Ordering::Relaxed) == 1),
+                    "{what}"
+                );
+                let first = failing.iter().copied().filter(|&b| b < count).min();
+                assert_eq!(result.err(), first, "{what}");
+            }
+        }
+    }
+}
+
 #[test]
 fn collision_batches_split_without_changing_a_number() {
     use kinetree::collision::batch::{CollisionBatch, distances_batch, min_distance_batch};

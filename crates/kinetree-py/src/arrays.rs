@@ -14,6 +14,7 @@ use crate::model::PyModel;
 use crate::scratch::Scratch;
 use crate::values::{SharedArray, Values, address_range};
 use kinetree::dynamics::DynamicsData;
+use kinetree::parallel::Parallel;
 use numpy::ndarray::{ArrayD, ArrayViewD, IxDyn};
 use numpy::{
     AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods,
@@ -24,8 +25,6 @@ use pyo3::prelude::*;
 use pyo3::types::{PyComplex, PyFloat, PyInt};
 use std::cell::RefCell;
 use std::ops::Range;
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Two arrays returned together (`simulate`'s configurations and velocities, `bounds`' corners).
 pub(crate) type ArrayPair<'py> = (
@@ -459,54 +458,22 @@ pub(crate) fn stack_failure(
     stack_error(failed)
 }
 
-/// Runs `run` on every block, on the calling thread and on rayon's workers at once, each
-/// taking the next block no one has taken; returns the error of the lowest failing state
-/// (whichever thread ran its block).
+/// Runs `run` on every block, on the calling thread and on rayon's workers at once
+/// ([`Parallel::for_each_block`]), each taking the next block no one has taken; returns the
+/// error of the lowest failing state (whichever thread ran its block).
 ///
 /// The calling thread starts at once instead of waiting for a sleeping worker to pick the call
 /// up: on this project's 2-vCPU VM a worker woken after a few milliseconds idle took about as
 /// long as a whole derivatives call of 1 000 states, so a call made between Python work (a
 /// loop, another library) ran slower than on one thread. Workers that wake in time take their
-/// share of the blocks; the result does not depend on who ran which.
+/// share of the blocks; the result does not depend on who ran which. The blocks take their
+/// workspaces from the model's pool, so the threads need none of their own.
 pub(crate) fn par_blocks<T: Send>(
     blocks: Vec<T>,
     run: impl Fn(T) -> BlockResult + Sync,
 ) -> BlockResult {
-    let take = |m: &Mutex<Option<T>>| match m.lock() {
-        Ok(mut x) => x.take(),
-        Err(poisoned) => poisoned.into_inner().take(),
-    };
-    let slots: Vec<Mutex<Option<T>>> = blocks.into_iter().map(|b| Mutex::new(Some(b))).collect();
-    let next = AtomicUsize::new(0);
-    let failed: Mutex<Option<Box<(usize, kinetree::Error)>>> = Mutex::new(None);
-    let drain = || {
-        while let Some(slot) = slots.get(next.fetch_add(1, Ordering::Relaxed)) {
-            let Some(block) = take(slot) else { continue };
-            if let Err(e) = run(block) {
-                let mut first = match failed.lock() {
-                    Ok(f) => f,
-                    Err(poisoned) => poisoned.into_inner(),
-                };
-                if first.as_ref().is_none_or(|f| e.0 < f.0) {
-                    *first = Some(e);
-                }
-            }
-        }
-    };
-    let helpers = rayon::current_num_threads()
-        .saturating_sub(1)
-        .min(slots.len().saturating_sub(1));
-    rayon::in_place_scope(|s| {
-        for _ in 0..helpers {
-            s.spawn(|_| drain());
-        }
-        drain();
-    });
-    let failed = match failed.into_inner() {
-        Ok(f) => f,
-        Err(poisoned) => poisoned.into_inner(),
-    };
-    failed.map_or(Ok(()), Err)
+    let mut threads = Parallel::from_fn(rayon::current_num_threads(), |_| ());
+    threads.for_each_block(blocks, &|_, block| run(block))
 }
 
 /// Blocks per worker thread of a stacked call: enough for the workers to even out when one is

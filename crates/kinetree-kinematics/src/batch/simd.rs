@@ -177,7 +177,8 @@ pub fn align_frame_page() {
 pub fn align_frame_32() {
     #[repr(C, align(32))]
     struct Half([u8; 32]);
-    core::hint::black_box(&Half([0; 32]));
+    let half = core::mem::MaybeUninit::<Half>::uninit();
+    core::hint::black_box(half.as_ptr());
 }
 
 /// Runs `$kernel::<L>(bufs, args…)` compiled for the instruction set `$simd`, with `$bufs4`
