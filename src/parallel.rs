@@ -219,8 +219,10 @@ impl<T, E> Queue<T, E> {
     fn drain<W>(&self, w: &mut W, f: &impl Fn(&mut W, T) -> Result<(), E>) {
         loop {
             let i = self.next.fetch_add(1, Ordering::Relaxed);
+            if i >= self.count {
+                return;
+            }
             let slot = match i.checked_sub(MAX_BLOCKS) {
-                _ if i >= self.count => return,
                 None => &self.slots[i],
                 Some(j) => &self.more[j],
             };

@@ -39,7 +39,7 @@ mod transpose;
 
 pub use simd::Simd;
 #[doc(hidden)]
-pub use simd::{align_frame_32, align_frame_page};
+pub use simd::{Half, Page, align_frame};
 #[doc(hidden)]
 pub use simd::{
     block_states, body_transform, body_transform_in_lanes, gather, revolute_axis_transform,

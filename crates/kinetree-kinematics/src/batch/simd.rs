@@ -147,39 +147,40 @@ macro_rules! with_simd {
     }};
 }
 
-/// Makes the frame of the kernel this is inlined into start on a page (an aligned local whose
-/// address escapes makes the compiler realign the stack pointer on entry; the local itself is
-/// never written). Two effects, both measured on the 512-bit kernels:
+/// Makes the frame of the kernel this is inlined into start on an `A`-aligned address (an
+/// aligned local whose address escapes makes the compiler realign the stack pointer on entry;
+/// the local itself is never written): [`Page`] for the 512-bit kernels, [`Half`] for the
+/// 256-bit ones. Two effects, both measured on the 512-bit kernels:
 /// - spill slots take their natural alignment, so the kernel's many 512-bit register spills no
 ///   longer straddle two cache lines wherever the caller's stack depth put a frame that was
 ///   only 16-byte aligned;
-/// - the frame sits at the same offset within a page on every call, from every thread, so its
-///   spill slots alias (same address modulo 4 KiB, which the processor's store-to-load checks
-///   compare first) the same lines of the workspace every time, not whichever the caller's
-///   stack depth picked.
+/// - on a page, the frame sits at the same offset within a page on every call, from every
+///   thread, so its spill slots alias (same address modulo 4 KiB, which the processor's
+///   store-to-load checks compare first) the same lines of the workspace every time, not
+///   whichever the caller's stack depth picked.
 ///
 /// Before, the same kernel ran up to 20 % faster or slower from one process or build to the
 /// next: batched RNEA on the panda, 100–122 ns/state with the stack's offset; with the frame
 /// on a page, 97–99 at every offset, alone or on two threads at once.
 #[doc(hidden)]
 #[inline(always)]
-pub fn align_frame_page() {
-    #[repr(C, align(4096))]
-    struct Page([u8; 64]);
-    let page = core::mem::MaybeUninit::<Page>::uninit();
-    core::hint::black_box(page.as_ptr());
+pub fn align_frame<A>() {
+    let local = core::mem::MaybeUninit::<A>::uninit();
+    core::hint::black_box(local.as_ptr());
 }
 
-/// For 256-bit kernels: their frame 32-byte aligned, so that their spills do not straddle
-/// cache lines (the page alignment of [`align_frame_page`] is not measured on them).
+/// A page-aligned type, for [`align_frame`] in the 512-bit kernels.
 #[doc(hidden)]
-#[inline(always)]
-pub fn align_frame_32() {
-    #[repr(C, align(32))]
-    struct Half([u8; 32]);
-    let half = core::mem::MaybeUninit::<Half>::uninit();
-    core::hint::black_box(half.as_ptr());
-}
+#[derive(Debug)]
+#[repr(C, align(4096))]
+pub struct Page([u8; 64]);
+
+/// A 32-byte-aligned type, for [`align_frame`] in the 256-bit kernels (the page alignment is
+/// not measured on them).
+#[doc(hidden)]
+#[derive(Debug)]
+#[repr(C, align(32))]
+pub struct Half([u8; 32]);
 
 /// Runs `$kernel::<L>(bufs, args…)` compiled for the instruction set `$simd`, with `$bufs4`
 /// (a `&mut $buf<4>`) or `$bufs8` (a `&mut $buf<8>`) as the kernel's first argument. The
@@ -194,14 +195,14 @@ macro_rules! simd_dispatch {
         #[target_feature(enable = "avx2")]
         #[allow(clippy::too_many_arguments, reason = "the kernel's own arguments, passed through")]
         fn avx2(b: &mut $buf<4>, $($a: $t),*) -> $r {
-            $crate::batch::align_frame_32();
+            $crate::batch::align_frame::<$crate::batch::Half>();
             $kernel::<4>(b, $($a),*)
         }
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx512f")]
         #[allow(clippy::too_many_arguments, reason = "the kernel's own arguments, passed through")]
         fn avx512(b: &mut $buf<8>, $($a: $t),*) -> $r {
-            $crate::batch::align_frame_page();
+            $crate::batch::align_frame::<$crate::batch::Page>();
             $kernel::<8>(b, $($a),*)
         }
         match $simd {

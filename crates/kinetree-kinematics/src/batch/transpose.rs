@@ -444,9 +444,9 @@ mod avx512 {
     }
 
     /// Stores the first `count` lanes of four rows as records of four numbers, `at + k·stride`
-    /// for lane `k`: a 4×8 transpose in 8 two-source permutes (each vector then holds two
-    /// records, stored as two 256-bit halves), where the 8×8 transpose of [`store`] took 24 on
-    /// four rows and four zeros.
+    /// for lane `k`: a 4×8 transpose in 4 unpacks and 4 two-source permutes (each vector then
+    /// holds two records, stored as two 256-bit halves), where the 8×8 transpose of [`store`]
+    /// took 24 shuffles on four rows and four zeros.
     ///
     /// # Safety
     /// The CPU has AVX-512F, `count <= 8`, and `at + k·stride` starts four writable numbers for
@@ -504,15 +504,6 @@ mod avx512 {
     ) {
         for g in 0..G {
             let n = (R - 8 * g).min(8);
-            if n == 4 {
-                let r = core::array::from_fn(|i| {
-                    // SAFETY: a row is eight numbers.
-                    unsafe { _mm512_loadu_pd(rows[8 * g + i].as_ptr()) }
-                });
-                // SAFETY: the caller's promise, for numbers 8g..8g + 4 of each record.
-                unsafe { store4(r, at.first.add(8 * g), at.stride, count) };
-                continue;
-            }
             let r: [__m512d; 8] = core::array::from_fn(|i| {
                 if i < n {
                     // SAFETY: a row is eight numbers.
@@ -521,6 +512,18 @@ mod avx512 {
                     _mm512_setzero_pd()
                 }
             });
+            if n == 4 {
+                // SAFETY: the caller's promise, for numbers 8g..8g + 4 of each record.
+                unsafe {
+                    store4(
+                        [r[0], r[1], r[2], r[3]],
+                        at.first.add(8 * g),
+                        at.stride,
+                        count,
+                    )
+                };
+                continue;
+            }
             let cols = transpose(r);
             let mask = if n == 8 { 0xff } else { (1u8 << n) - 1 };
             for (k, col) in cols.iter().enumerate().take(count) {
