@@ -52,7 +52,9 @@
 //!   reports it. Two spheres, a sphere and a box, cylinder or capsule, and two cylinders side
 //!   to side are computed in closed form; other convex pairs by GJK (separated) and EPA
 //!   (penetrating) to a relative precision of 1e-8, with parry's GJK/EPA as the fallback;
-//!   triangle meshes by parry's composite-shape queries.
+//!   a triangle mesh against a convex shape triangle by triangle; two triangle meshes by a
+//!   traversal of both bounding-volume trees that prunes with the closest pair found so far
+//!   (a mesh is a surface: two overlapping meshes report their deepest crossing triangles).
 //! - Witness points and normals ([`Proximity`]) are in the world frame; the normal points from
 //!   the first shape toward the second.
 //! - URDF shapes: box = full side lengths, cylinder = radius and full length along the

@@ -9,7 +9,7 @@
 //!
 //! **Allocation:** none of the queries allocates once the data exists, with these exceptions
 //! inside parry: queries involving a triangle mesh ([`MeshMode::TriMesh`](crate::MeshMode))
-//! go through parry's composite-shape traversal, which keeps a stack in a `Vec`; and the EPA
+//! traverse parry's bounding-volume trees, whose stacks move to the heap past 32 entries; and the EPA
 //! buffers of [`CollisionData`] grow on the first penetrating convex pairs until they are large
 //! enough (they are reused afterwards; parry's own `contact` would allocate a new EPA per call).
 //! The distance queries use the crate's own GJK/EPA first (parry's EPA runs to its

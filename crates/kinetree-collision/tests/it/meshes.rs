@@ -5,7 +5,7 @@ use kinetree_collision::kinematics::KinematicsData;
 use kinetree_collision::mesh::{parse_stl, read_mesh_file};
 use kinetree_collision::{
     CollisionData, CollisionError, CollisionModel, CollisionOptions, MeshMode, any_collision,
-    compute_distances,
+    compute_distances, compute_self_collisions,
 };
 use kinetree_test_support::assert_close;
 
@@ -223,5 +223,131 @@ fn a_mirrored_mesh_collides_where_its_mirror_image_is() {
         )
         .unwrap_err();
         assert!(e.to_string().contains("'a'"), "{scale}: {e}");
+    }
+}
+
+/// Two triangle meshes: every distance between the bundled Panda's link meshes equals parry's
+/// own (a separate algorithm: its composite-shape distance, triangle against mesh), with the
+/// witness points on the two surfaces, as far apart as the distance, along the normal.
+#[test]
+fn mesh_pair_distances_match_parrys_on_the_bundled_panda() {
+    use kinetree_collision::kinematics::configuration;
+    use kinetree_collision::kinematics::model::{Model, RootJoint};
+    use kinetree_collision::parry::query::{self, PointQuery};
+    let urdf = data_dir().join("robots/panda.urdf");
+    let model = Model::from_urdf_file(&urdf, RootJoint::Fixed).unwrap();
+    let options = CollisionOptions::default().with_model_file(&urdf, &[]);
+    let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+    let mut kinematics = KinematicsData::new(&model);
+    let mut data = CollisionData::new(&cmodel);
+    let mut rng = <rand::rngs::SmallRng as rand::SeedableRng>::seed_from_u64(11);
+    let mut q = vec![0.0; model.nq()];
+    let (mut separated, mut penetrating) = (0, 0);
+    for state in 0..12 {
+        configuration::random_configuration(&model, &mut rng, &mut q).unwrap();
+        data.compute_placements(&model, &cmodel, &mut kinematics, &q)
+            .unwrap();
+        let found = compute_distances(&cmodel, &mut data).unwrap().to_vec();
+        for p in found {
+            let (sa, sb) = (&cmodel.shapes()[p.a], &cmodel.shapes()[p.b]);
+            let (Some(ma), Some(mb)) = (sa.shape().as_trimesh(), sb.shape().as_trimesh()) else {
+                continue;
+            };
+            let (pose_a, pose_b) = (
+                *data.shape_pose(p.a).unwrap(),
+                *data.shape_pose(p.b).unwrap(),
+            );
+            let theirs = query::distance(&pose_a, ma, &pose_b, mb).unwrap().distance;
+            let what = format!("state {state}, {} / {}", sa.name(), sb.name());
+            if theirs > 0.0 {
+                separated += 1;
+                assert_close!(p.distance, theirs, 1e-10, 1e-8, "{what}");
+                assert!(
+                    ma.distance_to_point(&pose_a, p.point_a, false) < 1e-10,
+                    "{what}"
+                );
+                assert!(
+                    mb.distance_to_point(&pose_b, p.point_b, false) < 1e-10,
+                    "{what}"
+                );
+                let gap = p.point_b - p.point_a;
+                assert_close!(gap.length(), p.distance, 1e-10, 1e-8, "{what}");
+                assert_close!(gap.dot(p.normal), p.distance, 1e-10, 1e-8, "{what}");
+            } else {
+                penetrating += 1;
+                assert!(p.distance <= 0.0, "{what}: {}", p.distance);
+            }
+        }
+    }
+    // 9 link meshes (link7 and the hand are one body): 35 pairs on two bodies, minus the 8 of
+    // a parent and its child.
+    assert_eq!(separated + penetrating, 12 * 27);
+    assert!(separated > 300, "{separated}");
+}
+
+/// Two boxes as triangle meshes (the unit cube scaled to 0.4 x 1 x 1 and 0.4 x 0.6 x 0.6), side
+/// by side along x: the distance is the gap between the faces, or between an edge and a face
+/// once the first box turns about z; once they overlap, a collision with a negative distance
+/// (no deeper than the overlap: the surfaces cross).
+#[test]
+fn two_mesh_boxes_are_as_far_apart_as_their_faces() {
+    let model = urdf(
+        r#"<link name="base"/>
+           <link name="a"><collision><geometry><mesh filename="package://kinetree_test/meshes/unit_cube_binary.stl" scale="0.4 1 1"/></geometry></collision></link>
+           <link name="b"><collision><geometry><mesh filename="package://kinetree_test/meshes/unit_cube.obj" scale="0.4 0.6 0.6"/></geometry></collision></link>
+           <joint name="ja" type="revolute"><parent link="base"/><child link="a"/>
+             <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+           <joint name="jb" type="prismatic"><parent link="base"/><child link="b"/>
+             <axis xyz="1 0 0"/><limit lower="-10" upper="10" effort="1" velocity="1"/></joint>"#,
+    );
+    let options = CollisionOptions::default().with_mesh_path(data_dir());
+    let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+    assert!(
+        cmodel
+            .shapes()
+            .iter()
+            .all(|s| s.shape().as_trimesh().is_some())
+    );
+    let mut kinematics = KinematicsData::new(&model);
+    let mut data = CollisionData::new(&cmodel);
+    let (ja, jb) = (
+        model.joint_q_range(model.joint_index("ja").unwrap()).start,
+        model.joint_q_range(model.joint_index("jb").unwrap()).start,
+    );
+    let quarter = std::f64::consts::FRAC_PI_4;
+    // Half extents along x: 0.2 for b; for a, 0.2, 0.5 a quarter turn on, and (0.2 + 0.5)/√2
+    // (a vertical edge) an eighth of a turn on.
+    for (angle, x, expected) in [
+        (0.0, 1.0, 0.6),
+        (0.0, 0.45, 0.05),
+        (-2.0 * quarter, 1.0, 0.3),
+        (quarter, 1.0, 0.8 - 0.7 * quarter.cos()),
+        (quarter, -0.9, 0.7 - 0.7 * quarter.cos()),
+    ] {
+        let mut q = vec![0.0; 2];
+        (q[ja], q[jb]) = (angle, x);
+        data.compute_placements(&model, &cmodel, &mut kinematics, &q)
+            .unwrap();
+        let p = compute_distances(&cmodel, &mut data).unwrap()[0];
+        assert_close!(p.distance, expected, 1e-9, 0.0, "angle {angle}, x = {x}");
+        assert_close!(p.normal.x.abs(), 1.0, 1e-9, 0.0, "angle {angle}, x = {x}");
+        assert_close!((p.point_b - p.point_a).x.abs(), expected, 1e-9, 0.0);
+        assert!(
+            !any_collision(&cmodel, &mut data).unwrap(),
+            "angle {angle}, x = {x}"
+        );
+    }
+    for x in [0.35, 0.1, -0.25] {
+        let mut q = vec![0.0; 2];
+        q[jb] = x;
+        data.compute_placements(&model, &cmodel, &mut kinematics, &q)
+            .unwrap();
+        let d = compute_distances(&cmodel, &mut data).unwrap()[0].distance;
+        assert!(d < 0.0 && d >= -(0.4 - x.abs()) - 1e-9, "x = {x}: {d}");
+        assert!(any_collision(&cmodel, &mut data).unwrap(), "x = {x}");
+        // The contact list finds the same crossing.
+        let contacts = compute_self_collisions(&cmodel, &mut data).unwrap();
+        assert_eq!(contacts.len(), 1, "x = {x}");
+        assert_close!(contacts[0].distance, d, 1e-12, 0.0, "x = {x}");
     }
 }
