@@ -207,12 +207,17 @@ pub(crate) fn proximity(
             }
         }
     };
-    Ok(local.map(|(p1, p2, n, distance)| Witness {
+    Ok(local.map(|local| in_world(a.pose, local)))
+}
+
+/// A result in the first shape's frame (at `pose`), in the world frame.
+fn in_world(pose: &Pose, (p1, p2, n, distance): Local) -> Witness {
+    Witness {
         distance,
-        point_a: a.pose.transform_point(p1),
-        point_b: a.pose.transform_point(p2),
-        normal: a.pose.rotation * n,
-    }))
+        point_a: pose.transform_point(p1),
+        point_b: pose.transform_point(p2),
+        normal: pose.rotation * n,
+    }
 }
 
 /// [`ball_primitive`] for a primitive at a parry pose.
@@ -403,13 +408,19 @@ const PROJECTIONS: usize = 8;
 const SLAB_TOLERANCE: f64 = 1e-12;
 
 /// Two triangle meshes, as [`mesh_convex`] treats a mesh (a surface): separated, the closest
-/// pair of triangles; touching or overlapping, the deepest of the overlapping pairs. `None` when
+/// pair of triangles; touching or overlapping, the deepest of the crossing pairs. `None` when
 /// either shape is not a triangle mesh.
 ///
-/// Both bounding-volume trees are traversed at once, skipping every pair of boxes farther apart
-/// than the closest triangles found so far (once two triangles touch, every pair of boxes that
-/// do not overlap). The bound starts at the distance between two surface points, each the
-/// projection of the other onto its mesh: usually the answer already, so few boxes survive.
+/// 1. Two surface points, each the projection of the other onto its mesh, settle on a pair of
+///    triangles, whose closest points are then solved exactly.
+/// 2. When the slab between the planes through those points, normal to the gap, holds no
+///    vertex of either mesh, it separates the meshes and that pair is the answer (most pairs of
+///    the bundled Panda's links).
+/// 3. Otherwise both bounding-volume trees are traversed at once from step 1's distance,
+///    skipping the pairs of boxes, and of triangles, farther apart than the best pair so far
+///    (by box distance and by their gap along step 1's direction; once two triangles touch,
+///    every pair that does not overlap).
+///
 /// parry's composite query, used before, tests the triangles of one mesh against the whole
 /// other mesh with no bound between them: on the bundled Panda's meshes (200–300 triangles
 /// each) a pair took ~0.6 ms, a whole `compute_distances` ~30 ms; and with a zero margin (a
@@ -456,7 +467,7 @@ fn mesh_mesh(
         f64::INFINITY,
         scratch,
     );
-    if let Some((p1, p2, n, distance)) = pair
+    if let Some(local @ (p1, p2, n, distance)) = pair
         && distance > 0.0
     {
         let (n_b, offset) = (pos12.rotation.inverse() * n, pos12.translation.dot(n));
@@ -473,12 +484,7 @@ fn mesh_mesh(
             + offset;
         let slack = SLAB_TOLERANCE * (1.0 + p1.abs().max_element() + p2.abs().max_element());
         if beyond_a <= p1.dot(n) + slack && before_b >= p2.dot(n) - slack {
-            return Some((distance <= max_dist).then(|| Witness {
-                distance,
-                point_a: a.pose.transform_point(p1),
-                point_b: a.pose.transform_point(p2),
-                normal: a.pose.rotation * n,
-            }));
+            return Some((distance <= max_dist).then(|| in_world(a.pose, local)));
         }
     }
     // An upper bound of the distance (the two points', or their triangles'), with a little
@@ -531,18 +537,13 @@ fn mesh_mesh(
             best = Some(local);
         }
     }
-    let Some((p1, p2, n, distance)) = best else {
+    let Some(local) = best else {
         // Nothing within the bound: farther apart than `max_dist` when that was the bound; a
         // bound from the surface points always holds their triangles, unless GJK's tolerance
         // put them just above it, when parry's query decides.
         return (bound >= max_dist).then_some(None);
     };
-    Some((distance <= max_dist).then(|| Witness {
-        distance,
-        point_a: a.pose.transform_point(p1),
-        point_b: a.pose.transform_point(p2),
-        normal: a.pose.rotation * n,
-    }))
+    Some((local.3 <= max_dist).then(|| in_world(a.pose, local)))
 }
 
 fn composite(a: Posed<'_>, b: Posed<'_>, max_dist: f64) -> Result<Option<Witness>, Unsupported> {

@@ -110,15 +110,21 @@ fn missing_mesh_is_an_error_naming_the_file_or_skipped() {
     assert_eq!(cmodel.skipped_meshes().len(), 1);
 }
 
-#[test]
-fn the_bundled_panda_finds_its_meshes_next_to_the_urdf() {
+/// The bundled Panda with its collision meshes (triangle meshes, the default). No search path
+/// is given: `package://example-robot-data/robots/panda_description/…` resolves to
+/// tests/data/robots/panda_description/… through the model file's directory.
+fn bundled_panda() -> (kinetree_collision::kinematics::model::Model, CollisionModel) {
     use kinetree_collision::kinematics::model::{Model, RootJoint};
     let urdf = data_dir().join("robots/panda.urdf");
     let model = Model::from_urdf_file(&urdf, RootJoint::Fixed).unwrap();
-    // No search path given: `package://example-robot-data/robots/panda_description/…` resolves
-    // to tests/data/robots/panda_description/… through the model file's directory.
     let options = CollisionOptions::default().with_model_file(&urdf, &[]);
     let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+    (model, cmodel)
+}
+
+#[test]
+fn the_bundled_panda_finds_its_meshes_next_to_the_urdf() {
+    let (model, cmodel) = bundled_panda();
     assert!(cmodel.skipped_meshes().is_empty());
     // 17 collision elements: 9 link meshes (link0..link7, hand) and 4 boxes per finger.
     assert_eq!(cmodel.shapes().len(), 17);
@@ -232,12 +238,8 @@ fn a_mirrored_mesh_collides_where_its_mirror_image_is() {
 #[test]
 fn mesh_pair_distances_match_parrys_on_the_bundled_panda() {
     use kinetree_collision::kinematics::configuration;
-    use kinetree_collision::kinematics::model::{Model, RootJoint};
     use kinetree_collision::parry::query::{self, PointQuery};
-    let urdf = data_dir().join("robots/panda.urdf");
-    let model = Model::from_urdf_file(&urdf, RootJoint::Fixed).unwrap();
-    let options = CollisionOptions::default().with_model_file(&urdf, &[]);
-    let cmodel = CollisionModel::from_model(&model, &options).unwrap();
+    let (model, cmodel) = bundled_panda();
     let mut kinematics = KinematicsData::new(&model);
     let mut data = CollisionData::new(&cmodel);
     let mut rng = <rand::rngs::SmallRng as rand::SeedableRng>::seed_from_u64(11);
