@@ -202,7 +202,8 @@ pub(crate) fn proximity(
                 // Two triangle meshes: a pruned traversal of both trees.
                 return Ok(w);
             } else {
-                // Two triangle meshes (or other composites): parry's generic queries.
+                // Other composite shapes, or two meshes whose traversal found no pair within its
+                // bound (GJK's tolerance): parry's generic queries.
                 return composite(a, b, max_dist);
             }
         }
