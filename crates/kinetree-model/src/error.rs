@@ -47,6 +47,20 @@ pub enum ModelError {
         /// The parser's message.
         message: String,
     },
+    /// The XML is well formed but is not an MJCF model that MuJoCo's compiler (or kinetree's
+    /// reading of it) accepts: unknown elements or classes, missing or malformed attributes,
+    /// impossible inertias, `<include>` loops, elements kinetree cannot load yet.
+    #[error("invalid MJCF{}: <{element}>: {message}", location(.file.as_deref(), *.line, 0))]
+    Mjcf {
+        /// The file holding the element (an included file when it came from one).
+        file: Option<PathBuf>,
+        /// 1-based line of the element's start tag.
+        line: usize,
+        /// The element's name.
+        element: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The JSON is malformed or does not follow the schema (unknown fields included).
     #[error("invalid JSON{}: {message}", location(.file.as_deref(), *.line, *.column))]
     Json {
@@ -138,8 +152,10 @@ fn location(file: Option<&std::path::Path>, line: usize, column: usize) -> Strin
     if let Some(f) = file {
         s.push_str(&format!(" in {}", f.display()));
     }
-    if line > 0 {
+    if line > 0 && column > 0 {
         s.push_str(&format!(" at line {line}, column {column}"));
+    } else if line > 0 {
+        s.push_str(&format!(" at line {line}"));
     }
     s
 }

@@ -12,7 +12,11 @@
 //!   [`Model::to_json_string`] — see [`json`] for the schema;
 //! - yapCAD's chain JSON (`KinematicChain.export_json`), recognised by its shape or read
 //!   explicitly with its joint values: [`Model::from_yapcad_file`] (see [`yapcad`]);
-//! - either, by file extension: [`Model::from_file`];
+//! - MJCF (MuJoCo's XML), compiled as MuJoCo's compiler does (defaults, includes, frames,
+//!   inertia from geoms, several joints per body), with the conversions between MuJoCo's
+//!   `qpos`/`qvel`/`qacc`/`qfrc` and kinetree's vectors: [`Model::from_mjcf_file`],
+//!   [`Model::from_mjcf_str`] — see [`mjcf`];
+//! - any of these, by extension and content (`<robot>`, `<mujoco>`, JSON): [`Model::from_file`];
 //! - Denavit–Hartenberg tables, standard or modified: [`Model::from_dh`] (see [`dh`]);
 //! - code: [`ModelBuilder`], and the ready-made models of [`samples`].
 //!
@@ -58,6 +62,10 @@
 //!   `link`, `joint`, `frame`: the items a model is made of; `error`: [`ModelError`] and
 //!   [`Issue`]; `compare`: structural comparison of two models.
 //! - [`urdf`]: URDF import (`urdf/read.rs`) and export (`urdf/write.rs`).
+//! - [`mjcf`]: MJCF import (`mjcf/read.rs`: the document, defaults and the body tree;
+//!   `mjcf/inertia.rs`: masses inferred from geoms; `mjcf/orient.rs`: orientation forms) and the
+//!   MuJoCo coordinate conversions (`mjcf/mod.rs`); `xml_tree`: the owned, depth-limited XML tree
+//!   it reads.
 //! - [`json`]: kinetree's JSON schema (`json/schema.rs`), import (`json/read.rs`) and export
 //!   (`json/write.rs`); [`units`]: the length and angle units of model files.
 //! - [`dh`]: Denavit–Hartenberg tables; [`dh_json`]: DH tables as JSON files; [`samples`]:
@@ -81,6 +89,7 @@ mod frame;
 mod joint;
 pub mod json;
 mod link;
+pub mod mjcf;
 mod model;
 pub mod samples;
 pub mod state;
@@ -88,6 +97,7 @@ mod topology;
 pub mod units;
 pub mod urdf;
 mod user_joints;
+mod xml_tree;
 pub mod yapcad;
 
 pub use builder::{

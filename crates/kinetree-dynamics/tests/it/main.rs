@@ -11,5 +11,6 @@ mod exudyn;
 mod identities;
 mod kinematics_derivatives;
 mod limits;
+mod mjcf;
 mod reference;
 mod simulation;

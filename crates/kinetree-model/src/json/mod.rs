@@ -206,15 +206,19 @@ impl Model {
         from_json(&text, root.into(), Some(path))
     }
 
-    /// Loads a URDF or JSON file, chosen by extension (`.urdf`, `.xml` → URDF; `.json` → JSON;
-    /// anything else by the first non-blank character, `<` or `{`).
+    /// Loads a model file of any format kinetree reads: `.json` files as JSON (kinetree's schema,
+    /// a yapCAD chain or a DH table, by their content); XML files (any extension) by their root
+    /// element: `<robot>` as URDF, `<mujoco>` as MJCF; anything else by its first non-blank
+    /// character, `<` or `{`.
     ///
     /// `root`: for URDF, `None` means [`RootJoint::Fixed`]; for JSON, `None` keeps the file's own
-    /// `root_joint` and a value overrides it.
+    /// `root_joint` and a value overrides it. MJCF files say themselves how bodies attach to the
+    /// world (free joints), so `root` must be `None` or [`RootJoint::Fixed`] for them.
     ///
     /// # Errors
-    /// [`ModelError::UnknownFormat`] when the format cannot be told, otherwise as
-    /// [`Model::from_urdf_file`] or [`Model::from_json_file`].
+    /// [`ModelError::UnknownFormat`] when the format cannot be told, [`ModelError::Unsupported`]
+    /// for a floating root asked of an MJCF file, otherwise as [`Model::from_urdf_file`],
+    /// [`Model::from_json_file`] or [`Model::from_mjcf_file`].
     pub fn from_file(
         path: impl AsRef<Path>,
         root: impl Into<Option<RootJoint>>,
@@ -225,23 +229,30 @@ impl Model {
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
-            Some("urdf" | "xml") => Model::from_urdf_file(path, root.unwrap_or_default()),
-            Some("json") => Model::from_json_file(path, root),
-            _ => {
-                let text = read_file(path)?;
-                match text.trim_start().chars().next() {
-                    Some('<') => crate::urdf::from_urdf(
-                        &text,
-                        &crate::urdf::LoadOptions::from(root.unwrap_or_default()),
-                        Some(path.into()),
-                    ),
-                    Some('{') => from_json(&text, root, Some(path)),
-                    _ => Err(ModelError::UnknownFormat {
-                        path: path.to_path_buf(),
-                    }),
+        if ext.as_deref() == Some("json") {
+            return Model::from_json_file(path, root);
+        }
+        let text = read_file(path)?;
+        match text.trim_start().chars().next() {
+            Some('<') if crate::xml_tree::root_name(&text).as_deref() == Some("mujoco") => {
+                if root == Some(RootJoint::Floating) {
+                    return Err(ModelError::Unsupported {
+                        format: "MJCF",
+                        what: "a floating root joint: an MJCF body floats by its own <freejoint>"
+                            .to_string(),
+                    });
                 }
+                crate::mjcf::from_mjcf(&text, Some(path))
             }
+            Some('<') => crate::urdf::from_urdf(
+                &text,
+                &crate::urdf::LoadOptions::from(root.unwrap_or_default()),
+                Some(path.into()),
+            ),
+            Some('{') => from_json(&text, root, Some(path)),
+            _ => Err(ModelError::UnknownFormat {
+                path: path.to_path_buf(),
+            }),
         }
     }
 
@@ -261,7 +272,7 @@ impl Model {
     }
 }
 
-fn read_file(path: &Path) -> Result<String, ModelError> {
+pub(crate) fn read_file(path: &Path) -> Result<String, ModelError> {
     crate::error::read_text(path)
 }
 

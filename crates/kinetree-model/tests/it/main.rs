@@ -1,6 +1,7 @@
 //! Integration tests of the model layer.
 
 mod errors;
+mod mjcf;
 mod reference;
 mod roots;
 mod roundtrip;
