@@ -7,7 +7,7 @@
 //! every layer's error in one [`Error`] so that `?` works across layers.
 //!
 //! ## Optional cargo features
-//! - `model` (default): [`model`], the `Model` type and the URDF/JSON loaders.
+//! - `model` (default): [`model`], the `Model` type and the URDF, MJCF and JSON loaders.
 //! - `kinematics` (default, implies `model`): forward kinematics, Jacobians, IK.
 //! - `dynamics` (default, implies `kinematics`): RNEA, CRBA, ABA.
 //! - `collision` (default, implies `kinematics`): self and world collision.
@@ -45,6 +45,11 @@ pub use error::Error;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/from-the-seeds.md")]
 pub struct FromTheSeeds;
+
+/// `docs/formats.md`, compiled and run as doc tests so its examples stay true.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/formats.md")]
+pub struct Formats;
 
 /// The names most programs need, for `use kinetree::prelude::*;`: from every layer its Data
 /// types, its main algorithms and its error (each behind the layer's feature).

@@ -97,6 +97,29 @@ fn urdf_seeds_and_mutations() {
 }
 
 #[test]
+fn mjcf_seeds_and_mutations() {
+    let mut all = seeds("mjcf");
+    let models = root().join("tests/data/reference/mjcf/models");
+    for model in [
+        "gym_ant/ant.xml",
+        "gym_hopper/hopper.xml",
+        "dmc_ball_joints/model_with_ball_joints.xml",
+        "dmc_testing_arm/arm.xml",
+    ] {
+        all.push(std::fs::read(models.join(model)).unwrap());
+    }
+    for s in &all {
+        harness::mjcf(s);
+    }
+    runner(300)
+        .run(&mutated(all), |s| {
+            harness::mjcf(&s);
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
 fn json_seeds_and_mutations() {
     let all = seeds("json");
     for s in &all {

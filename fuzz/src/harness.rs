@@ -30,6 +30,32 @@ pub fn urdf(bytes: &[u8]) {
     }
 }
 
+/// MJCF text → model → the algorithms, and the MuJoCo coordinate conversions on a state made
+/// of the input's bytes (every result finite or a typed error).
+pub fn mjcf(bytes: &[u8]) {
+    let Ok(text) = core::str::from_utf8(bytes) else {
+        return;
+    };
+    let Ok(model) = Model::from_mjcf_str(text) else {
+        return;
+    };
+    algorithms(&model, bytes);
+    let qpos = kinetree::kinematics::configuration::neutral_configuration(&model);
+    let qpos = model.q_to_mujoco(&qpos).expect("neutral q has nq entries");
+    let qvel: Vec<f64> = (0..model.nv())
+        .map(|k| f64::from(bytes[k % bytes.len()]) - 128.0)
+        .collect();
+    let q = model.q_from_mujoco(&qpos).expect("qpos has nq entries");
+    let v = model.v_from_mujoco(&qpos, &qvel).expect("lengths match");
+    let a = model
+        .a_from_mujoco(&qpos, &qvel, &qvel)
+        .expect("lengths match");
+    let tau = model.tau_to_mujoco(&q, &a).expect("lengths match");
+    for x in v.iter().chain(&a).chain(&tau) {
+        assert!(x.is_finite(), "a MuJoCo conversion gave {x}");
+    }
+}
+
 /// kinetree's JSON model text → model → the algorithms.
 pub fn json(bytes: &[u8]) {
     let Ok(text) = core::str::from_utf8(bytes) else {

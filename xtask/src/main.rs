@@ -14,6 +14,7 @@ mod ik_report;
 mod layers;
 mod regress;
 mod regress_derivatives;
+mod regress_mjcf;
 mod test;
 mod tidy;
 

@@ -1,6 +1,8 @@
 //! `cargo xtask regress`: runs every reference robot's samples through kinetree's batch evaluator
 //! (the same code as `kinetree compute`) and compares the results with Pinocchio's values in
-//! `tests/data/reference/*.json`, printing one table of worst errors (robot × quantity).
+//! `tests/data/reference/*.json`, printing one table of worst errors (robot × quantity); the MJCF
+//! models of `tests/data/reference/mjcf` are compared with MuJoCo's values in the same table
+//! (`regress_mjcf`).
 //!
 //! Vectors and matrices are mapped by joint name through the reference's `joints` table (Pinocchio
 //! orders child joints by name; kinetree keeps its own order). The same check runs under
@@ -344,6 +346,7 @@ pub(crate) fn check_all(root: &Path) -> Result<Vec<Row>> {
     for file in files {
         rows.extend(check_robot(root, &file)?);
     }
+    rows.extend(crate::regress_mjcf::check_all(root)?);
     Ok(rows)
 }
 
@@ -352,13 +355,13 @@ pub(crate) fn table(rows: &[Row]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<16} {:<20} {:>12} {:>12} {:>10} {:>8}  result",
+        "{:<34} {:<20} {:>12} {:>12} {:>10} {:>8}  result",
         "robot", "quantity", "worst abs", "worst rel", "tolerance", "entries"
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{:<16} {:<20} {:>12.3e} {:>12.3e} {:>10} {:>8}  {}",
+            "{:<34} {:<20} {:>12.3e} {:>12.3e} {:>10} {:>8}  {}",
             r.robot,
             r.quantity,
             r.worst_abs,

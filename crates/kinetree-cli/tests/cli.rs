@@ -110,6 +110,77 @@ fn inspect_and_compute_read_a_dh_table() {
 }
 
 #[test]
+fn inspect_and_compute_read_an_mjcf_model_as_mujoco_does() {
+    let hopper = data("reference/mjcf/models/gym_hopper/hopper.xml");
+    let o = kinetree(&["inspect", &hopper]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.starts_with("hopper (nq = 6, nv = 6)"), "{text}");
+    // The torso's three joints chain through massless links at their anchors.
+    for joint in ["rootx", "rootz", "rooty", "thigh_joint", "foot_joint"] {
+        assert!(
+            !row(section(&text, "joints"), joint).is_empty(),
+            "{joint}: {text}"
+        );
+    }
+    assert!(text.contains("actuator/motor (×3)"), "{text}");
+    // MuJoCo's first reference sample: its qpos, qvel and qacc are kinetree's q, v and a (no
+    // free or ball joint), and its bodies' positions and inverse dynamics come back.
+    let reference: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(data("reference/mjcf/gym_hopper.json")).unwrap(),
+    )
+    .unwrap();
+    let sample = &reference["samples"][0];
+    let named = |key: &str| -> serde_json::Value {
+        let values = flat(&sample[key]);
+        reference["joints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|j| {
+                (
+                    j["name"].as_str().unwrap().to_string(),
+                    values[j["qposadr"].as_u64().unwrap() as usize].into(),
+                )
+            })
+            .collect::<serde_json::Map<_, _>>()
+            .into()
+    };
+    let dir = scratch("mjcf");
+    let states = dir.join("states.json");
+    let request = serde_json::json!({"samples": [{"q": named("qpos"), "v": named("qvel"), "a": named("qacc")}]});
+    std::fs::write(&states, request.to_string()).unwrap();
+    let o = kinetree(&["compute", &hopper, "--states", states.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let xpos = flat(&sample["xpos"]);
+    for (id, body) in ["world", "torso", "thigh", "leg", "foot"]
+        .iter()
+        .enumerate()
+    {
+        let p = flat(&out["samples"][0]["link_poses"][body]["translation"]);
+        for k in 0..3 {
+            assert!((p[k] - xpos[3 * id + k]).abs() < 1e-9, "{body}: {p:?}");
+        }
+    }
+    let tau = &out["samples"][0]["by_joint"]["rnea"];
+    let expected = flat(&sample["tau"]);
+    for j in reference["joints"].as_array().unwrap() {
+        let ours = tau[j["name"].as_str().unwrap()].as_f64().unwrap();
+        let theirs = expected[j["dofadr"].as_u64().unwrap() as usize];
+        assert!(
+            (ours - theirs).abs() < 1e-9 * theirs.abs().max(1.0),
+            "{j}: {ours} vs {theirs}"
+        );
+    }
+    // MJCF bodies float by their own free joints: --floating is refused.
+    refused(
+        &kinetree(&["inspect", &hopper, "--floating"]),
+        &["MJCF", "freejoint"],
+    );
+}
+
+#[test]
 fn inspect_floating_adds_the_root_joint() {
     let out = kinetree(&["inspect", "--floating", &panda()]);
     let text = stdout(&out);
@@ -231,7 +302,11 @@ fn convert_refuses_what_it_cannot_write() {
     let out = kinetree(&["convert", &panda(), "panda.step"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr(&out).contains("panda.step"), "{}", stderr(&out));
-    assert!(stderr(&out).contains(".urdf or .json"), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains(".urdf, .xml (MJCF) or .json"),
+        "{}",
+        stderr(&out)
+    );
 
     let out = kinetree(&["convert", "--units", "mm-deg", &panda(), "x.urdf"]);
     assert_eq!(out.status.code(), Some(1));

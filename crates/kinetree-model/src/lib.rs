@@ -62,6 +62,7 @@
 //!   `link`, `joint`, `frame`: the items a model is made of; `error`: [`ModelError`] and
 //!   [`Issue`]; `compare`: structural comparison of two models.
 //! - [`urdf`]: URDF import (`urdf/read.rs`) and export (`urdf/write.rs`).
+//! - [`mesh`]: STL and OBJ triangle meshes and the rules that find their files.
 //! - [`mjcf`]: MJCF import (`mjcf/read.rs`: the document, defaults and the body tree;
 //!   `mjcf/inertia.rs`: masses inferred from geoms; `mjcf/orient.rs`: orientation forms) and the
 //!   MuJoCo coordinate conversions (`mjcf/mod.rs`); `xml_tree`: the owned, depth-limited XML tree
@@ -89,6 +90,7 @@ mod frame;
 mod joint;
 pub mod json;
 mod link;
+pub mod mesh;
 pub mod mjcf;
 mod model;
 pub mod samples;

@@ -235,6 +235,9 @@ mod tests {
             Some("mujoco")
         );
         assert_eq!(root_name("no xml"), None);
+        let hopper =
+            include_str!("../../../tests/data/reference/mjcf/models/gym_hopper/hopper.xml");
+        assert_eq!(root_name(hopper).as_deref(), Some("mujoco"));
     }
 
     #[test]

@@ -13,9 +13,10 @@ use std::path::{Path, PathBuf};
 /// Arguments of `kinetree convert`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct Args {
-    /// The model to read (.urdf, .xml or .json).
+    /// The model to read (URDF, MJCF or JSON).
     input: PathBuf,
-    /// The file to write; `.urdf` writes URDF, `.json` writes kinetree's JSON.
+    /// The file to write; `.urdf` writes URDF, `.xml` writes MJCF (MuJoCo), `.json` writes
+    /// kinetree's JSON.
     output: PathBuf,
     /// Attach the root link by a 6-DoF floating joint (recorded in JSON; URDF cannot hold it).
     #[arg(long)]
@@ -36,17 +37,20 @@ pub(crate) struct Args {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Format {
     Urdf,
+    Mjcf,
     Json,
 }
 
 /// Reads the input, writes the output, and says what was written and what the format dropped.
 pub(crate) fn run(args: &Args) -> Result<()> {
     let format = output_format(&args.output)?;
-    if format == Format::Urdf && args.units != UnitsArg::Si {
-        bail!("--units applies to JSON output only (URDF is always metres and radians)");
+    if format != Format::Json && args.units != UnitsArg::Si {
+        bail!("--units applies to JSON output only (URDF and MJCF are always metres and radians)");
     }
-    if format == Format::Urdf && (args.positions.is_some() || args.world_poses) {
-        bail!("--positions and --world-poses apply to JSON output only (URDF holds no state)");
+    if format != Format::Json && (args.positions.is_some() || args.world_poses) {
+        bail!(
+            "--positions and --world-poses apply to JSON output only (URDF and MJCF hold no state)"
+        );
     }
     let model = super::load_model(&args.input, super::root_joint(args.floating))?;
     let (q, stored) = stored_positions(&model, &args.input)?;
@@ -60,6 +64,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     };
     let text = match format {
         Format::Urdf => model.to_urdf_string(),
+        Format::Mjcf => model.to_mjcf_string(),
         Format::Json => model.to_json_string(&JsonOptions {
             units: args.units.units(),
             positions: (stored || args.positions.is_some()).then_some(q.as_slice()),
@@ -82,6 +87,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         args.output.display(),
         match format {
             Format::Urdf => "URDF",
+            Format::Mjcf => "MJCF",
             Format::Json => "JSON",
         },
         model.links().len(),
@@ -144,10 +150,11 @@ fn output_format(path: &Path) -> Result<Format> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("urdf" | "xml") => Ok(Format::Urdf),
+        Some("urdf") => Ok(Format::Urdf),
+        Some("xml") => Ok(Format::Mjcf),
         Some("json") => Ok(Format::Json),
         _ => bail!(
-            "cannot tell the output format of {}: use a .urdf or .json extension",
+            "cannot tell the output format of {}: use a .urdf, .xml (MJCF) or .json extension",
             path.display()
         ),
     }

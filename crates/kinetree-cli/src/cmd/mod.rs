@@ -17,10 +17,12 @@ use anyhow::{Context, Result};
 use kinetree::model::{Model, RootJoint};
 use std::path::Path;
 
-/// Loads a URDF or JSON model with [`Model::from_file`]: `.urdf`/`.xml` are URDF, `.json` is
-/// JSON, and any other file is told by its first character.
+/// Loads a model with [`Model::from_file`]: `.json` is kinetree JSON (or a yapCAD or DH table,
+/// by its content), XML is URDF or MJCF by its root element, and any other file is told by its
+/// first character.
 ///
-/// `root`: `None` welds a URDF's root to the world and keeps a JSON file's own `root_joint`.
+/// `root`: `None` welds a URDF's root to the world and keeps a JSON file's own `root_joint`; an
+/// MJCF file's bodies float by their own free joints (`--floating` is refused for it).
 ///
 /// # Errors
 /// The loader's error, with context naming the file.
@@ -42,7 +44,7 @@ fn check_model_file(path: &Path) -> Result<()> {
     };
     if !meta.is_file() {
         anyhow::bail!(
-            "cannot load {}: not a regular file (a model must be a .urdf or .json file)",
+            "cannot load {}: not a regular file (a model must be a URDF, MJCF or JSON file)",
             path.display()
         );
     }

@@ -1,5 +1,6 @@
-//! MJCF (MuJoCo's XML) import: [`Model::from_mjcf_file`], [`Model::from_mjcf_str`], and the
-//! conversions between MuJoCo's `qpos`/`qvel`/`qacc`/`qfrc` and kinetree's `q`/`v`/`a`/`tau`.
+//! MJCF (MuJoCo's XML) import ([`Model::from_mjcf_file`], [`Model::from_mjcf_str`]), export
+//! ([`Model::to_mjcf_string`]), and the conversions between MuJoCo's
+//! `qpos`/`qvel`/`qacc`/`qfrc` and kinetree's `q`/`v`/`a`/`tau`.
 //!
 //! ## What is read
 //!
@@ -91,6 +92,7 @@
 mod inertia;
 mod orient;
 mod read;
+mod write;
 
 use crate::error::ModelError;
 use crate::joint::JointKind;

@@ -2,7 +2,7 @@
 //! `<asset>` meshes and the `<worldbody>` tree, compiled as MuJoCo's compiler does, then handed
 //! to [`ModelBuilder`].
 
-use super::inertia::{self, BodyMass, GeomMass, Solid, Spread};
+use super::inertia::{self, BodyMass, GeomMass, MeshInertia, Solid, Spread};
 use super::orient::{Angle, Orientation, z_to};
 use crate::builder::{FrameSpec, JointSpec, ModelBuilder};
 use crate::error::ModelError;
@@ -545,7 +545,8 @@ struct GeomData {
     rgba: Option<[f64; 4]>,
     line: usize,
     file: usize,
-    type_name: String,
+    /// The mesh asset of a mesh geom.
+    mesh: Option<String>,
 }
 
 #[derive(Debug)]
@@ -577,11 +578,13 @@ struct BodyData<'a> {
     children: Vec<BodyData<'a>>,
 }
 
-/// A mesh asset: the file and its scale.
+/// A mesh asset: the file (relative to the model's folder unless absolute), its scale and how
+/// MuJoCo integrates its mass.
 #[derive(Clone, Debug)]
 struct MeshAsset {
     file: String,
     scale: [f64; 3],
+    inertia: MeshInertia,
 }
 
 /// What a body walk needs besides the element: the default class in force and the pose of the
@@ -899,7 +902,7 @@ impl<'a> Reader<'a> {
             rgba,
             line: e.line,
             file: e.file,
-            type_name,
+            mesh: (type_name == "mesh").then(|| mesh.unwrap_or_default().to_string()),
         })
     }
 
@@ -928,8 +931,9 @@ impl<'a> Reader<'a> {
                 let [xx, yy, zz, xy, xz, yz] = exact::<6>(e, "fullinertia", full)?;
                 let (moments, rot) =
                     inertia::principal_axes(&Symmetric3::new(xx, xy, xz, yy, yz, zz));
-                if moments.iter().any(|m| *m < 0.0) {
-                    return fail(e, "fullinertia is not positive semi-definite");
+                // MuJoCo's check.
+                if moments.iter().any(|m| *m < MJ_EPS) {
+                    return fail(e, "fullinertia must have positive eigenvalues");
                 }
                 (rot, moments)
             }
@@ -1091,6 +1095,29 @@ impl<'a> Reader<'a> {
                     .unwrap_or_else(|| file.to_string()),
             };
             let scale = v.array::<3>("scale", [1.0; 3])?;
+            if scale.contains(&0.0) {
+                return fail(m, "a mesh scale cannot be 0");
+            }
+            let inertia = match v.get("inertia").unwrap_or("legacy") {
+                "legacy" => MeshInertia::Legacy,
+                "exact" => MeshInertia::Exact,
+                "shell" => MeshInertia::Shell,
+                "convex" => {
+                    self.ignore(
+                        "mesh inertia=\"convex\" (computed as legacy, exact for convex meshes)",
+                    );
+                    MeshInertia::Legacy
+                }
+                other => return fail(m, format!("unknown mesh inertia '{other}'")),
+            };
+            for attr in ["refpos", "refquat"] {
+                if m.attr(attr).is_some() {
+                    return fail(
+                        m,
+                        format!("'{attr}' (deprecated in MuJoCo) is not supported"),
+                    );
+                }
+            }
             let dir = self
                 .compiler
                 .meshdir
@@ -1104,13 +1131,48 @@ impl<'a> Reader<'a> {
             };
             if self
                 .meshes
-                .insert(name.clone(), MeshAsset { file, scale })
+                .insert(
+                    name.clone(),
+                    MeshAsset {
+                        file,
+                        scale,
+                        inertia,
+                    },
+                )
                 .is_some()
             {
                 return fail(m, format!("repeated mesh name '{name}'"));
             }
         }
         Ok(())
+    }
+
+    /// A mesh asset's mass properties per unit density (see [`inertia::mesh_mass`]), read from
+    /// its file with MuJoCo's single-precision vertices.
+    fn mesh_mass(&self, name: &str, g: &GeomData) -> Res<inertia::MeshMass> {
+        let at = |message: String| Located {
+            file: g.file,
+            line: g.line,
+            element: "geom".to_string(),
+            message,
+        };
+        let Some(asset) = self.meshes.get(name) else {
+            return Err(at(format!("unknown mesh '{name}'")));
+        };
+        let path = self.model_dir.join(&asset.file);
+        let mesh = crate::mesh::read_mesh(&path)
+            .map_err(|e| at(format!("mesh '{name}' ({}): {e}", path.display())))?;
+        let single = crate::mesh::TriangleMesh {
+            vertices: mesh
+                .vertices
+                .iter()
+                .map(|v| v.as_vec3().as_dvec3())
+                .collect(),
+            triangles: mesh.triangles,
+        }
+        .scaled(DVec3::from_array(asset.scale));
+        inertia::mesh_mass(&single.vertices, &single.triangles, asset.inertia)
+            .map_err(|e| at(format!("mesh '{name}': {e}")))
     }
 
     /// The body's inertial frame, mass and principal moments as MuJoCo compiles them (before
@@ -1142,23 +1204,6 @@ impl<'a> Reader<'a> {
                     continue;
                 }
                 let measure = g.solid.measure(g.spread);
-                if g.type_name == "mesh"
-                    && g.mass != Some(0.0)
-                    && (g.mass.is_some() || g.density != 0.0)
-                {
-                    return Err(Located {
-                        file: g.file,
-                        line: g.line,
-                        element: "geom".to_string(),
-                        message: format!(
-                            "mesh geom{}: inferring mass and inertia from a mesh is not supported yet; give the body an <inertial>",
-                            g.name
-                                .as_deref()
-                                .map(|n| format!(" '{n}'"))
-                                .unwrap_or_default()
-                        ),
-                    });
-                }
                 let m = match g.mass {
                     Some(0.0) => 0.0,
                     Some(m) if measure > MJ_EPS => m,
@@ -1174,12 +1219,32 @@ impl<'a> Reader<'a> {
                         message: "mass or density is negative".to_string(),
                     });
                 }
-                geoms.push(GeomMass {
-                    mass: m,
-                    pos: g.pose.translation,
-                    rot: g.pose.rotation,
-                    moments: g.solid.moments(m, g.spread),
-                });
+                match &g.mesh {
+                    None => geoms.push(GeomMass {
+                        mass: m,
+                        pos: g.pose.translation,
+                        rot: g.pose.rotation,
+                        moments: g.solid.moments(m, g.spread),
+                    }),
+                    Some(mesh)
+                        if g.mass.is_some_and(|m| m != 0.0)
+                            || (g.mass.is_none() && g.density != 0.0) =>
+                    {
+                        let mm = self.mesh_mass(mesh, g)?;
+                        let m = match g.mass {
+                            Some(m) => m,
+                            None => g.density * mm.measure,
+                        };
+                        let (eig, rot) = inertia::mesh_principal_axes(&mm.inertia);
+                        geoms.push(GeomMass {
+                            mass: m,
+                            pos: g.pose.transform_point(mm.com),
+                            rot: g.pose.rotation * rot,
+                            moments: inertia::mesh_moments(eig, mm.measure, m),
+                        });
+                    }
+                    Some(_) => {}
+                }
             }
             match inertia::from_geoms(&geoms) {
                 Ok(Some(total)) => total,
@@ -1237,6 +1302,50 @@ impl<'a> Reader<'a> {
         }
         Ok(out)
     }
+}
+
+/// Smallest mass and principal moment MuJoCo accepts on a moving body (`mjMINVAL`).
+const MJ_MINVAL: f64 = 1e-15;
+
+/// MuJoCo's check that every body with joints can move: it has mass and inertia, or one of its
+/// welded (jointless) descendants reached without crossing a joint has. `next` is the body's id;
+/// it is advanced past the subtree.
+fn check_moving(body: &BodyData<'_>, masses: &[BodyMass], next: &mut usize) -> Res<()> {
+    fn carries(body: &BodyData<'_>, masses: &[BodyMass], id: usize) -> bool {
+        let m = &masses[id];
+        if m.mass >= MJ_MINVAL && m.moments.iter().all(|x| *x >= MJ_MINVAL) {
+            return true;
+        }
+        let mut child_id = id + 1;
+        for c in &body.children {
+            if c.joints.is_empty() && carries(c, masses, child_id) {
+                return true;
+            }
+            child_id += subtree_size(c);
+        }
+        false
+    }
+    let id = *next;
+    *next += 1;
+    if !body.world && !body.joints.is_empty() && !carries(body, masses, id) {
+        return fail(
+            body.e,
+            format!(
+                "body '{}' has joints but no mass or inertia (mass {:e}, principal moments {:?}), which MuJoCo refuses",
+                body.name.clone().unwrap_or_else(|| format!("body{id}")),
+                masses[id].mass,
+                masses[id].moments
+            ),
+        );
+    }
+    for c in &body.children {
+        check_moving(c, masses, next)?;
+    }
+    Ok(())
+}
+
+fn subtree_size(body: &BodyData<'_>) -> usize {
+    1 + body.children.iter().map(subtree_size).sum::<usize>()
 }
 
 /// Emits links, joints and frames for a body and its subtree, in MuJoCo's depth-first order.
@@ -1490,6 +1599,7 @@ fn compile(root: &Element, fallback_name: &str, model_dir: &Path) -> Res<ModelBu
         reader.read_children(w, scope, &mut world)?;
     }
     let masses = reader.masses(&world)?;
+    check_moving(&world, &masses, &mut 0)?;
     let name = root.attr("model").unwrap_or(fallback_name);
     let mut b = ModelBuilder::new(name);
     b.gravity(gravity(root)?);

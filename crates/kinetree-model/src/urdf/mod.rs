@@ -42,7 +42,7 @@
 use crate::{Issue, Model, ModelBuilder};
 
 mod read;
-mod write;
+pub(crate) mod write;
 
 pub use read::LoadOptions;
 pub(crate) use read::from_urdf;

@@ -9,7 +9,7 @@ use kinetree_spatial::Se3;
 use quick_xml::escape::escape;
 
 /// Formats a number so that it reads back to the same `f64`.
-fn num(x: f64) -> String {
+pub(crate) fn num(x: f64) -> String {
     if x == 0.0 {
         // Also turns -0 into 0.
         return "0".into();
@@ -19,7 +19,7 @@ fn num(x: f64) -> String {
     s.strip_suffix(".0").map_or(s.clone(), str::to_string)
 }
 
-fn nums(xs: &[f64]) -> String {
+pub(crate) fn nums(xs: &[f64]) -> String {
     xs.iter().map(|&x| num(x)).collect::<Vec<_>>().join(" ")
 }
 

@@ -177,7 +177,7 @@ fn every_orientation_form_and_the_compiler_angle() {
 #[test]
 fn frames_move_what_they_hold() {
     let m = load(&worldbody(
-        r#"<body name="b">
+        r#"<body name="b"><geom size="0.1"/>
           <frame pos="1 0 0" euler="0 0 90">
             <joint name="j" type="slide" axis="1 0 0" pos="0 1 0"/>
             <site name="s" pos="1 0 0"/>
@@ -289,8 +289,8 @@ fn bound_and_total_mass() {
 #[test]
 fn hinge_and_slide_refs_fold_into_the_placement() {
     let m = load(&worldbody(
-        r#"<body name="h"><joint name="hinge" axis="0 0 1" ref="90" range="0 180"/></body>
-        <body name="s"><joint name="slide" type="slide" axis="0 0 2" ref="0.5"/></body>"#,
+        r#"<body name="h"><joint name="hinge" axis="0 0 1" ref="90" range="0 180"/><geom size="1"/></body>
+        <body name="s"><joint name="slide" type="slide" axis="0 0 2" ref="0.5"/><geom size="1"/></body>"#,
     ));
     // At q = ref the body is where the file puts it: placement · R(ref) = identity.
     let h = joint(&m, "hinge");
@@ -315,6 +315,7 @@ fn several_joints_in_a_body_chain_through_their_anchors() {
         r#"<body name="torso" pos="0 0 1">
           <joint name="x" type="slide" axis="1 0 0" pos="0 0 -1"/>
           <joint name="pitch" axis="0 1 0" pos="0 0 0.5"/>
+          <geom size="0.1"/>
         </body>"#,
     ));
     // torso:0 carries the slide, torso:1 sits at the hinge's anchor, and a fixed joint brings
@@ -362,7 +363,9 @@ fn ball_and_free_joints_and_their_coordinates() {
     for (a, b) in v.iter().zip([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 7.0, 8.0, 9.0]) {
         assert!((a - b).abs() < 1e-12, "{v:?}");
     }
-    let e = err(&worldbody(r#"<body><body><freejoint/></body></body>"#));
+    let e = err(&worldbody(
+        r#"<body><body><freejoint/><geom size="1"/></body></body>"#,
+    ));
     assert!(e.contains("free joint"), "{e}");
     assert!(matches!(
         m.v_from_mujoco(&qpos, &[0.0; 3]),
@@ -374,7 +377,7 @@ fn ball_and_free_joints_and_their_coordinates() {
 fn limits_follow_limited_and_autolimits() {
     let m = load(&worldbody(
         r#"<body><joint name="auto" range="-10 10"/><joint name="off" limited="false" range="-1 1"/>
-        <joint name="slide" type="slide" range="-0.5 0.5"/></body>"#,
+        <joint name="slide" type="slide" range="-0.5 0.5"/><geom size="1"/></body>"#,
     ));
     assert_eq!(joint(&m, "auto").kind, JointKind::Revolute);
     assert!((joint(&m, "auto").limits.upper - 10f64.to_radians()).abs() < 1e-15);
@@ -385,7 +388,9 @@ fn limits_follow_limited_and_autolimits() {
         r#"<mujoco><compiler autolimits="false"/><worldbody><body><joint range="0 1"/></body></worldbody></mujoco>"#,
     );
     assert!(e.contains("'limited' is not"), "{e}");
-    let e = err(&worldbody(r#"<body><joint range="1 0"/></body>"#));
+    let e = err(&worldbody(
+        r#"<body><joint range="1 0"/><geom size="1"/></body>"#,
+    ));
     assert!(e.contains("range[0] must be smaller"), "{e}");
 }
 
@@ -460,6 +465,10 @@ fn bad_documents_are_typed_errors_naming_the_line() {
             "unknown joint type",
         ),
         (
+            "<mujoco><worldbody><body name=\"m\"><joint/><body><joint/><geom size=\"1\"/></body></body></worldbody></mujoco>",
+            "body 'm' has joints but no mass",
+        ),
+        (
             "<mujoco><worldbody><replicate count=\"2\"/></worldbody></mujoco>",
             "not supported yet",
         ),
@@ -492,6 +501,10 @@ fn bad_documents_are_typed_errors_naming_the_line() {
     );
     let i = m.link(m.link_index("b").unwrap()).inertia().rotational;
     assert!((i.xx - 5.0 / 3.0).abs() < 1e-12 && (i.zz - 5.0 / 3.0).abs() < 1e-12);
+    // A moving body without mass is fine when a welded child carries some (MuJoCo's rule).
+    load(&worldbody(
+        r#"<body><joint/><body><geom size="1"/></body></body>"#,
+    ));
     let _ = DMat3::IDENTITY;
 }
 
@@ -507,6 +520,11 @@ fn from_file_tells_mjcf_by_its_root() {
     .unwrap();
     let m = Model::from_file(&path, None).unwrap();
     assert_eq!((m.name(), m.nq()), ("m", 1));
+    let hopper = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/data/reference/mjcf/models/gym_hopper/hopper.xml"
+    );
+    assert_eq!(Model::from_file(hopper, None).unwrap().name(), "hopper");
     let xml = dir.join("robot.xml");
     std::fs::copy(&path, &xml).unwrap();
     assert_eq!(Model::from_file(&xml, None).unwrap().nq(), 1);
@@ -515,4 +533,116 @@ fn from_file_tells_mjcf_by_its_root() {
         Err(ModelError::Unsupported { format: "MJCF", .. })
     ));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn models_are_written_as_mjcf() {
+    use kinetree_model::{JointLimits, JointSpec, Link, ModelBuilder};
+    let heavy = |name: &str| {
+        Link::new(name).with_mass(
+            1.0,
+            DVec3::ZERO,
+            Symmetric3::from_diagonal(DVec3::splat(0.1)),
+        )
+    };
+    let mut b = ModelBuilder::new("kinds");
+    b.add_link(heavy("base"))
+        .add_link(heavy("slider"))
+        .add_link(heavy("puck"))
+        .add_joint(
+            JointSpec::new("cyl", JointKind::Cylindrical, "base", "slider")
+                .with_axis(DVec3::X)
+                .with_limits(JointLimits::position(-1.0, 1.0))
+                .with_placement(Se3::from_translation(DVec3::Z)),
+        )
+        .add_joint(
+            JointSpec::new("plane", JointKind::Planar, "slider", "puck").with_axis(DVec3::Z),
+        );
+    let model = b.build().unwrap();
+    let xml = model.to_mjcf_string().unwrap();
+    let back = load(&xml);
+    // One joint per coordinate, in the same order: q is the same.
+    let names: Vec<&str> = back
+        .moving_joints()
+        .map(|j| back.joint(j).name.as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "cyl:slide",
+            "cyl:hinge",
+            "plane:x",
+            "plane:y",
+            "plane:angle"
+        ]
+    );
+    assert_eq!(back.nq(), model.nq());
+    assert_eq!(joint(&back, "cyl:hinge").limits.upper, 1.0);
+    // The base is welded under the world body, the slider sits 1 m up.
+    assert!(close_se3(
+        &joint(&back, "cyl:slide").placement,
+        &Se3::from_translation(DVec3::Z)
+    ));
+    assert_eq!(link_mass(&back, "puck"), 1.0);
+    // MuJoCo refuses a moving body without mass: the export says which.
+    let mut b = ModelBuilder::new("light");
+    b.add_link(heavy("base"))
+        .add_link(Link::new("ghost"))
+        .add_joint(
+            JointSpec::new("j", JointKind::Revolute, "base", "ghost")
+                .with_limits(JointLimits::position(-1.0, 1.0)),
+        );
+    let e = b.build().unwrap().to_mjcf_string().unwrap_err().to_string();
+    assert!(e.contains("joint 'j'") && e.contains("ghost"), "{e}");
+}
+
+#[test]
+fn masses_inferred_from_meshes_match_mujoco() {
+    use kinetree_model::spatial::glam::DQuat;
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/data/reference/mjcf_mesh"
+    );
+    let model = Model::from_mjcf_file(format!("{dir}/meshes.xml")).unwrap();
+    let reference: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(format!("{dir}/meshes.json")).unwrap())
+            .unwrap();
+    let numbers = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let bodies = reference["meshes"]["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), 5);
+    for b in &bodies[1..] {
+        let name = b["name"].as_str().unwrap();
+        let ours = model.link(model.link_index(name).unwrap()).inertia();
+        let mass = b["mass"].as_f64().unwrap();
+        assert!(
+            (ours.mass - mass).abs() <= 1e-12 * mass,
+            "{name}: mass {} vs {mass}",
+            ours.mass
+        );
+        let ipos = DVec3::from_slice(&numbers(&b["ipos"]));
+        assert!(
+            (ours.com - ipos).length() <= 1e-12,
+            "{name}: {} vs {ipos}",
+            ours.com
+        );
+        let q = numbers(&b["iquat"]);
+        let r = DMat3::from_quat(DQuat::from_xyzw(q[1], q[2], q[3], q[0]));
+        let moments = DVec3::from_slice(&numbers(&b["inertia"]));
+        let theirs = Symmetric3::from_diagonal(moments).rotate(&r);
+        for (x, y) in ours.rotational.to_voigt().iter().zip(theirs.to_voigt()) {
+            assert!(
+                (x - y).abs() <= 1e-10 * moments.max_element(),
+                "{name}: {:?} vs {theirs:?}",
+                ours.rotational
+            );
+        }
+    }
+    // The legacy rule over-counts the L-shaped prism: the solid's exact mass would be 18 kg.
+    assert!(link_mass(&model, "legacy") > 20.0);
 }
