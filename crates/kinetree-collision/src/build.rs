@@ -10,6 +10,13 @@ use parry3d_f64::math::Pose;
 use parry3d_f64::shape::SharedShape;
 use std::path::PathBuf;
 
+/// The largest size (m) of a shape: box sides, radii, lengths, and the coordinates of a scaled
+/// mesh's vertices. Larger shapes are rejected where they are built
+/// ([`CollisionError::InvalidGeometry`], [`CollisionError::InvalidObstacle`]): the squares of
+/// sizes near 1e154 overflow, and parry's EPA panicked on them. A million kilometres leaves
+/// room for any obstacle while the distance arithmetic stays far from overflowing.
+pub const MAX_SHAPE_SIZE: f64 = 1e9;
+
 /// How mesh geometries become parry shapes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum MeshMode {
@@ -104,7 +111,8 @@ impl CollisionModel {
     /// # Errors
     /// [`CollisionError::MeshNotFound`] / [`CollisionError::MeshParse`] naming the file (unless
     /// `options.missing_meshes` is [`MissingMeshes::Skip`]); [`CollisionError::InvalidGeometry`]
-    /// for negative or non-finite sizes; [`CollisionError::UnknownLink`] for a disabled pair
+    /// for negative or non-finite sizes, or sizes beyond [`MAX_SHAPE_SIZE`];
+    /// [`CollisionError::UnknownLink`] for a disabled pair
     /// naming no link.
     ///
     /// # Examples
@@ -213,7 +221,8 @@ impl CollisionModel {
 /// geometry in errors.
 ///
 /// # Errors
-/// [`CollisionError::InvalidGeometry`] for negative or non-finite sizes or a degenerate mesh;
+/// [`CollisionError::InvalidGeometry`] for negative or non-finite sizes, sizes (or scaled mesh
+/// coordinates) beyond [`MAX_SHAPE_SIZE`], or a degenerate mesh;
 /// [`CollisionError::MeshNotFound`] / [`CollisionError::MeshParse`] for meshes.
 pub fn shape_from_geometry(
     geometry: &Geometry,
@@ -227,12 +236,16 @@ pub fn shape_from_geometry(
         reason,
     };
     let check = |what: &str, x: f64| {
-        if x.is_finite() && x >= 0.0 {
-            Ok(x)
-        } else {
+        if !(x.is_finite() && x >= 0.0) {
             Err(invalid(format!(
                 "{what} = {x} must be finite and non-negative"
             )))
+        } else if x > MAX_SHAPE_SIZE {
+            Err(invalid(format!(
+                "{what} = {x} m is larger than {MAX_SHAPE_SIZE} m"
+            )))
+        } else {
+            Ok(x)
         }
     };
     Ok(match geometry {
@@ -274,6 +287,17 @@ pub fn shape_from_geometry(
             );
             let path = resolve_mesh_path(filename, &options.mesh_search_paths, owner)?;
             let mesh = read_mesh_file(&path)?.scaled(scale);
+            let reach = mesh
+                .vertices
+                .iter()
+                .map(|v| v.abs().max_element())
+                .fold(0.0, f64::max);
+            if reach > MAX_SHAPE_SIZE {
+                return Err(invalid(format!(
+                    "'{}' scaled reaches {reach} m from its origin, more than {MAX_SHAPE_SIZE} m",
+                    path.display()
+                )));
+            }
             let vertices = mesh.vertices;
             let shape = match options.mesh_mode {
                 MeshMode::ConvexHull => SharedShape::convex_hull(&vertices).ok_or_else(|| {

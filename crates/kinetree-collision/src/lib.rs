@@ -69,7 +69,9 @@
 //!
 //! ## Errors
 //! [`CollisionError`] names the offending file, link, shape or obstacle; kinematics errors are
-//! wrapped.
+//! wrapped. Shapes larger than [`MAX_SHAPE_SIZE`] are refused where they are built. A panic
+//! inside parry during a query is caught at the query's boundary and returned as
+//! [`CollisionError::Panic`]; the data stays usable.
 //!
 //! ## Modules
 //! - `model`: [`CollisionModel`]; [`build`]: building it from the model's geometry
@@ -105,7 +107,7 @@ pub mod sampling;
 mod scene;
 pub mod srdf;
 
-pub use build::{CollisionOptions, MeshMode, MissingMeshes, shape_from_geometry};
+pub use build::{CollisionOptions, MAX_SHAPE_SIZE, MeshMode, MissingMeshes, shape_from_geometry};
 pub use data::{CollisionData, LinkPairDistance, Obstacle, ObstacleId, Proximity};
 pub use error::CollisionError;
 pub use kinetree_kinematics as kinematics;
