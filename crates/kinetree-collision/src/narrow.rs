@@ -154,6 +154,21 @@ pub(crate) fn proximity(
         return Ok((r.distance <= max_dist).then_some(r));
     }
     let pos12 = a.pose.inv_mul(b.pose);
+    // Distance queries between primitives: closed forms where GJK/EPA degenerate, then the
+    // crate's GJK/EPA (as the pair loops compute them); parry's below when those do not settle.
+    if max_dist > 0.0
+        && crate::primitives::is_solid(a.kind)
+        && crate::primitives::is_solid(b.kind)
+        && let Some(local) = crate::primitives::pair(
+            a.kind,
+            b.kind,
+            &glam::DMat3::from_quat(pos12.rotation),
+            pos12.translation,
+            scratch,
+        )
+    {
+        return Ok((local.3 <= max_dist).then(|| in_world(a.pose, local)));
+    }
     let local: Option<Local> = match (a.kind, b.kind) {
         (Kind::Ball(ball), Kind::Cylinder(s)) => ball_convex(&pos12, ball, s, max_dist),
         (Kind::Ball(ball), Kind::Cuboid(s)) => ball_convex(&pos12, ball, s, max_dist),
@@ -304,14 +319,50 @@ where
             Some((p1, p2, n, len))
         }
         GJKResult::Intersection => {
+            // Collision queries: the crate's EPA first (it starts from the degenerate simplices
+            // of coincident and symmetric shapes, where parry's gives up); distance queries
+            // already tried it above.
+            if max_dist <= 0.0
+                && let Some(local) =
+                    crate::gjk::signed_distance(pos12, g1, g2, dir, &mut scratch.polytope)
+                && local.3 <= 0.0
+            {
+                return Some(local);
+            }
             match scratch.epa.closest_points(pos12, g1, g2, &scratch.simplex) {
                 Some((p1, p2, n)) => Some((p1, p2, n, (p2 - p1).dot(n).min(0.0))),
-                // EPA failed on a degenerate configuration: report touching.
-                None => Some((Vector::ZERO, Vector::ZERO, Vector::X, 0.0)),
+                // Both EPAs failed: a conservative depth rather than "touching".
+                None => Some(conservative_depth(pos12, g1, g2)),
             }
         }
         GJKResult::NoIntersection(_) | GJKResult::Proximity(_) => None,
     }
+}
+
+/// An upper bound of the penetration depth of two overlapping shapes, for when both EPAs fail:
+/// the smallest extent of their difference over 26 directions (the faces, edges and corners of
+/// a cube). Moving the second shape that far along the reported normal separates them, so the
+/// depth is never understated (the old fallback reported touching).
+fn conservative_depth<G1, G2>(pos12: &Pose, g1: &G1, g2: &G2) -> Local
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
+    let mut best = (f64::INFINITY, Vector::ZERO, Vector::ZERO, Vector::X);
+    for k in 0..27 {
+        let i = |m: i32| f64::from((k / m) % 3 - 1);
+        let Some(n) = Vector::new(i(1), i(3), i(9)).try_normalize() else {
+            continue;
+        };
+        let p1 = g1.local_support_point(n);
+        let p2 = pos12 * g2.local_support_point(pos12.rotation.inverse() * -n);
+        let extent = n.dot(p1 - p2);
+        if extent < best.0 {
+            best = (extent, p1, p2, n);
+        }
+    }
+    let (extent, p1, p2, n) = best;
+    (p1, p2, n, -extent.max(0.0))
 }
 
 /// A triangle mesh against a convex shape (either order), triangle by triangle with the crate's
