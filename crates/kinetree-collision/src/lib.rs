@@ -58,6 +58,11 @@
 //!   triangle; two triangle meshes by a traversal of both bounding-volume trees that prunes
 //!   with the closest pair found so far (a mesh is a surface: two overlapping meshes report
 //!   their deepest crossing triangles).
+//! - A closed triangle mesh (every edge shared by two triangles) is a solid for balls and
+//!   capsules: a ball's distance is its centre's signed distance to the mesh (negative inside)
+//!   less its radius, a capsule's that of its segment's deepest point when the segment reaches
+//!   inside ([`is_closed_trimesh`]). Other shapes, and every shape against an open mesh, see the
+//!   mesh as a surface.
 //! - Witness points and normals ([`Proximity`]) are in the world frame; the normal points from
 //!   the first shape toward the second.
 //! - URDF shapes: box = full side lengths, cylinder = radius and full length along the
@@ -112,7 +117,10 @@ pub mod sampling;
 mod scene;
 pub mod srdf;
 
-pub use build::{CollisionOptions, MAX_SHAPE_SIZE, MeshMode, MissingMeshes, shape_from_geometry};
+pub use build::{
+    CollisionOptions, MAX_SHAPE_SIZE, MeshMode, MissingMeshes, is_closed_trimesh,
+    shape_from_geometry,
+};
 pub use data::{CollisionData, LinkPairDistance, Obstacle, ObstacleId, Proximity};
 pub use error::CollisionError;
 pub use kinetree_kinematics as kinematics;

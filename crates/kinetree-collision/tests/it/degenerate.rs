@@ -173,6 +173,30 @@ fn issue_39_item_7_coincident_capsules_and_cylinders() {
     );
 }
 
+/// Item 8: the mesh cube of side 0.1 against a sphere of radius 0.01 centred on its surface:
+/// on a face centre (on the diagonal two triangles share), on edges and on a vertex. The
+/// sphere must move out by its radius: -0.01 everywhere.
+#[test]
+fn issue_39_item_8_sphere_centred_on_a_mesh_surface() {
+    let cube = at(mesh_cube(0.1), [0.0; 3]);
+    let centres = [
+        ("face centre +z", [0.0, 0.0, 0.05]),
+        ("face centre -x", [-0.05, 0.0, 0.0]),
+        ("face point", [0.01, -0.02, 0.05]),
+        ("edge midpoint", [0.05, 0.0, 0.05]),
+        ("edge point", [0.05, 0.05, 0.013]),
+        ("edge point 2", [-0.02, -0.05, -0.05]),
+        ("vertex", [0.05, 0.05, 0.05]),
+        ("vertex 2", [-0.05, 0.05, -0.05]),
+    ];
+    assert_all(
+        centres
+            .into_iter()
+            .filter_map(|(what, c)| check(what, &cube, &at(sphere(0.01), c), -0.01))
+            .collect(),
+    );
+}
+
 /// Item 9: a 0.2 m box inside a long obstacle box (1e5 or 1e6 by 1 by 1, centred at x = 5):
 /// the box leaves through a side face, 0.5 + 0.1 = 0.6.
 #[test]
@@ -537,6 +561,82 @@ fn primitive_pairs_on_degenerate_placements() {
         cases
             .iter()
             .filter_map(|(what, a, b, expected)| check(what, a, b, *expected))
+            .collect(),
+    );
+}
+
+/// The mesh cube of side 0.1 (closed, so a solid) against a sphere, a box and a capsule on
+/// degenerate placements, worked by hand.
+#[test]
+fn mesh_cube_on_degenerate_placements() {
+    let cube = at(mesh_cube(0.1), [0.0; 3]);
+    let s3 = 3f64.sqrt();
+    let cases: Vec<(&str, Placed, f64)> = vec![
+        // Sphere: centre inside, 0.02 below the top face (0.02 + 0.01); touching a face and a
+        // vertex.
+        ("sphere inside", at(sphere(0.01), [0.0, 0.0, 0.03]), -0.03),
+        (
+            "sphere touching a face",
+            at(sphere(0.01), [0.0, 0.0, 0.06]),
+            0.0,
+        ),
+        (
+            "sphere touching a vertex",
+            at(
+                sphere(0.01),
+                [0.05 + 0.01 / s3, 0.05 + 0.01 / s3, 0.05 + 0.01 / s3],
+            ),
+            0.0,
+        ),
+        ("sphere apart", at(sphere(0.01), [0.0, 0.2, 0.0]), 0.14),
+        // A box of side 0.02 centred on a face, an edge, a vertex: out by its half side.
+        (
+            "box on a face",
+            at(cuboid(0.02, 0.02, 0.02), [0.0, 0.0, 0.05]),
+            -0.01,
+        ),
+        (
+            "box on an edge",
+            at(cuboid(0.02, 0.02, 0.02), [0.05, 0.0, 0.05]),
+            -0.01,
+        ),
+        (
+            "box on a vertex",
+            at(cuboid(0.02, 0.02, 0.02), [0.05, 0.05, 0.05]),
+            -0.01,
+        ),
+        (
+            "box touching a face",
+            at(cuboid(0.02, 0.02, 0.02), [0.0, 0.0, 0.06]),
+            0.0,
+        ),
+        // A capsule (radius 0.01, length 0.04) lying on the top face along the diagonal the
+        // two triangles share (out by the radius), standing through it (0.02 of segment
+        // inside, plus the radius), and touching it.
+        (
+            "capsule on the diagonal",
+            turned(
+                capsule(0.01, 0.04),
+                [0.0, 0.0, 0.05],
+                [0.0, PI / 2.0, PI / 4.0],
+            ),
+            -0.01,
+        ),
+        (
+            "capsule through a face",
+            at(capsule(0.01, 0.04), [0.0, 0.0, 0.05]),
+            -0.03,
+        ),
+        (
+            "capsule touching a face",
+            at(capsule(0.01, 0.04), [0.0, 0.0, 0.08]),
+            0.0,
+        ),
+    ];
+    assert_all(
+        cases
+            .iter()
+            .filter_map(|(what, b, expected)| check(what, &cube, b, *expected))
             .collect(),
     );
 }
