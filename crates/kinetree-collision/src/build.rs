@@ -7,8 +7,15 @@ use crate::pose::se3_to_pose;
 use glam::{DQuat, DVec3};
 use kinetree_kinematics::model::{Geometry, Model};
 use parry3d_f64::math::Pose;
-use parry3d_f64::shape::SharedShape;
+use parry3d_f64::shape::{SharedShape, TriMesh, TriMeshFlags};
 use std::path::PathBuf;
+
+/// The largest size (m) of a shape: box sides, radii, lengths, and the coordinates of a scaled
+/// mesh's vertices. Larger shapes are rejected where they are built
+/// ([`CollisionError::InvalidGeometry`], [`CollisionError::InvalidObstacle`]): the squares of
+/// sizes near 1e154 overflow, and parry's EPA panicked on them. A million kilometres leaves
+/// room for any obstacle while the distance arithmetic stays far from overflowing.
+pub const MAX_SHAPE_SIZE: f64 = 1e9;
 
 /// How mesh geometries become parry shapes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -91,7 +98,9 @@ impl CollisionModel {
     /// along the element's z axis, centred), capsules (cylindrical length along z) and meshes
     /// (scaled per axis by any finite non-zero factors, a negative one mirroring the mesh with
     /// its winding reversed, see [`TriangleMesh::scaled`]; STL binary or ASCII, OBJ) as
-    /// [`MeshMode`] says.
+    /// [`MeshMode`] says. A closed triangle mesh (every edge shared by two triangles, once
+    /// identical vertices are merged) is a solid for balls and capsules: a ball whose centre
+    /// is inside it penetrates by its radius plus the centre's depth ([`is_closed_trimesh`]).
     ///
     /// [`TriangleMesh::scaled`]: crate::mesh::TriangleMesh::scaled
     ///
@@ -104,7 +113,8 @@ impl CollisionModel {
     /// # Errors
     /// [`CollisionError::MeshNotFound`] / [`CollisionError::MeshParse`] naming the file (unless
     /// `options.missing_meshes` is [`MissingMeshes::Skip`]); [`CollisionError::InvalidGeometry`]
-    /// for negative or non-finite sizes; [`CollisionError::UnknownLink`] for a disabled pair
+    /// for negative or non-finite sizes, or sizes beyond [`MAX_SHAPE_SIZE`];
+    /// [`CollisionError::UnknownLink`] for a disabled pair
     /// naming no link.
     ///
     /// # Examples
@@ -213,7 +223,8 @@ impl CollisionModel {
 /// geometry in errors.
 ///
 /// # Errors
-/// [`CollisionError::InvalidGeometry`] for negative or non-finite sizes or a degenerate mesh;
+/// [`CollisionError::InvalidGeometry`] for negative or non-finite sizes, sizes (or scaled mesh
+/// coordinates) beyond [`MAX_SHAPE_SIZE`], or a degenerate mesh;
 /// [`CollisionError::MeshNotFound`] / [`CollisionError::MeshParse`] for meshes.
 pub fn shape_from_geometry(
     geometry: &Geometry,
@@ -227,12 +238,16 @@ pub fn shape_from_geometry(
         reason,
     };
     let check = |what: &str, x: f64| {
-        if x.is_finite() && x >= 0.0 {
-            Ok(x)
-        } else {
+        if !(x.is_finite() && x >= 0.0) {
             Err(invalid(format!(
                 "{what} = {x} must be finite and non-negative"
             )))
+        } else if x > MAX_SHAPE_SIZE {
+            Err(invalid(format!(
+                "{what} = {x} m is larger than {MAX_SHAPE_SIZE} m"
+            )))
+        } else {
+            Ok(x)
         }
     };
     Ok(match geometry {
@@ -274,6 +289,17 @@ pub fn shape_from_geometry(
             );
             let path = resolve_mesh_path(filename, &options.mesh_search_paths, owner)?;
             let mesh = read_mesh_file(&path)?.scaled(scale);
+            let reach = mesh
+                .vertices
+                .iter()
+                .map(|v| v.abs().max_element())
+                .fold(0.0, f64::max);
+            if reach > MAX_SHAPE_SIZE {
+                return Err(invalid(format!(
+                    "'{}' scaled reaches {reach} m from its origin, more than {MAX_SHAPE_SIZE} m",
+                    path.display()
+                )));
+            }
             let vertices = mesh.vertices;
             let shape = match options.mesh_mode {
                 MeshMode::ConvexHull => SharedShape::convex_hull(&vertices).ok_or_else(|| {
@@ -282,12 +308,72 @@ pub fn shape_from_geometry(
                         path.display()
                     ))
                 })?,
-                MeshMode::TriMesh | MeshMode::Ignore => {
-                    SharedShape::trimesh(vertices, mesh.triangles)
-                        .map_err(|e| invalid(format!("'{}': {e}", path.display())))?
-                }
+                MeshMode::TriMesh | MeshMode::Ignore => trimesh(vertices, mesh.triangles)
+                    .map_err(|e| invalid(format!("'{}': {e}", path.display())))?,
             };
             (shape, Pose::IDENTITY)
         }
     })
+}
+
+/// A triangle mesh; a closed one (every edge shared by exactly two triangles that traverse it in
+/// opposite directions, once identical vertices are merged) is built oriented outward with
+/// parry's pseudo-normals, so that point queries tell inside from outside (see
+/// [`is_closed_trimesh`]). Other meshes stay surfaces, built as before.
+fn trimesh(
+    vertices: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+) -> Result<SharedShape, parry3d_f64::shape::TriMeshBuilderError> {
+    let merged = TriMesh::with_flags(
+        vertices.clone(),
+        triangles.clone(),
+        TriMeshFlags::MERGE_DUPLICATE_VERTICES,
+    )?;
+    let Some(volume) = closed_volume(merged.vertices(), merged.indices()) else {
+        return SharedShape::trimesh(vertices, triangles);
+    };
+    let mut indices = merged.indices().to_vec();
+    if volume < 0.0 {
+        // Wound inward: turn every triangle so the normals point out.
+        for t in &mut indices {
+            t.swap(1, 2);
+        }
+    }
+    SharedShape::trimesh_with_flags(merged.vertices().to_vec(), indices, TriMeshFlags::ORIENTED)
+}
+
+/// The signed volume of a closed triangle mesh (positive when its triangles are wound
+/// counter-clockwise seen from outside), or `None` when the mesh is not closed: some directed
+/// edge is used twice, or its reverse is not used exactly once, or a triangle repeats a vertex.
+fn closed_volume(vertices: &[DVec3], indices: &[[u32; 3]]) -> Option<f64> {
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(indices.len() * 3);
+    let mut volume = 0.0;
+    for &[a, b, c] in indices {
+        if a == b || b == c || c == a {
+            return None;
+        }
+        edges.extend([(a, b), (b, c), (c, a)]);
+        let [pa, pb, pc] = [a, b, c].map(|i| vertices[i as usize]);
+        volume += pa.dot(pb.cross(pc)) / 6.0;
+    }
+    if edges.is_empty() {
+        return None;
+    }
+    edges.sort_unstable();
+    if edges.windows(2).any(|w| w[0] == w[1]) {
+        return None;
+    }
+    let closed = edges
+        .iter()
+        .all(|&(a, b)| edges.binary_search(&(b, a)).is_ok());
+    (closed && volume != 0.0).then_some(volume)
+}
+
+/// Whether `shape` is a triangle mesh built closed (see [`CollisionModel::from_model`]): its
+/// signed distances to a ball count the inside of the mesh as solid.
+#[must_use]
+pub fn is_closed_trimesh(shape: &SharedShape) -> bool {
+    shape
+        .as_trimesh()
+        .is_some_and(|m| m.pseudo_normals_if_oriented().is_some())
 }

@@ -80,6 +80,15 @@ pub(crate) fn cylinder_sides(axis2: DVec3, center2: DVec3, c1: &Cylinder, c2: &C
         })
     };
     if denom < 1e-8 {
+        // Parallel axes (to round-off, from the cross product: `denom` itself has only the
+        // precision of `cos²`) that overlap or touch: the closed form. Apart, the feature
+        // solver's side-to-side case.
+        if axis2.x * axis2.x + axis2.z * axis2.z < 1e-24 {
+            let local = parallel(center2, c1, c2);
+            if local.3 <= 0.0 {
+                return Sides::Exact(local);
+            }
+        }
         // Near-parallel axes: the perpendicular is not unique.
         return fallback(0.0, true);
     }
@@ -102,6 +111,21 @@ pub(crate) fn cylinder_sides(axis2: DVec3, center2: DVec3, c1: &Cylinder, c2: &C
         n,
         len - c1.radius - c2.radius,
     ))
+}
+
+/// Two cylinders with parallel axes (the second's centre at `center2`), in closed form: the
+/// differences of their points form a cylinder of radius `r1 + r2` and half height `h1 + h2`
+/// around `center2`, so the signed distance is the origin's to that cylinder (negative inside),
+/// and its surface point nearest the origin splits into a point of each cylinder. Exact for
+/// coincident and nested cylinders, where GJK's simplex degenerates.
+pub(crate) fn parallel(center2: DVec3, c1: &Cylinder, c2: &Cylinder) -> Local {
+    let (r, h) = (c1.radius + c2.radius, c1.half_height + c2.half_height);
+    let (s, outward, signed) = crate::frames::cylinder_point(-center2, &Cylinder::new(h, r));
+    let (radial, up) = (DVec3::new(s.x, 0.0, s.z), s.y);
+    let share = |part: f64, whole: f64| if whole > 0.0 { part / whole } else { 0.5 };
+    let p1 = -(radial * share(c1.radius, r) + DVec3::Y * (up * share(c1.half_height, h)));
+    let p2 = center2 + radial * share(c2.radius, r) + DVec3::Y * (up * share(c2.half_height, h));
+    (p1, p2, -outward, signed)
 }
 
 /// Two cylinders: [`cylinder_sides`], then [`cylinder_features`] (for distance queries).
@@ -601,9 +625,15 @@ mod tests {
             let Some(((p1, p2, n, d), case)) = solve(axis2, center2, c1, c2) else {
                 continue;
             };
+            let r = reference.3;
+            if d <= 0.0 {
+                // Parallel cylinders overlapping or touching: the closed form.
+                assert!(case.is_none() && axis2.x.hypot(axis2.z) < 1e-12, "{k}: {d}");
+                assert!((d - r).abs() <= 1e-8 * r.abs().max(1e-3), "{k}: {d} vs {r}");
+                continue;
+            }
             answered += 1;
             *counts.entry(case).or_insert(0) += 1;
-            let r = reference.3;
             assert!(r > 0.0, "{k}: {d} but the reference is {r}");
             assert!(
                 (d - r).abs() <= 1e-8 * r + 1e-15,

@@ -333,7 +333,10 @@ impl CollisionData {
     /// [`CollisionData::remove_obstacle`] or [`CollisionData::clear_obstacles`].
     ///
     /// # Errors
-    /// [`CollisionError::NonFinite`] for a non-finite pose.
+    /// [`CollisionError::NonFinite`] for a non-finite pose;
+    /// [`CollisionError::InvalidObstacle`] naming the obstacle when the shape's bounding box is
+    /// not finite or reaches beyond [`MAX_SHAPE_SIZE`](crate::build::MAX_SHAPE_SIZE) from its
+    /// origin.
     pub fn add_obstacle_shape(
         &mut self,
         name: impl Into<String>,
@@ -341,10 +344,22 @@ impl CollisionData {
         pose: &Pose,
     ) -> Result<ObstacleId, CollisionError> {
         check_pose(pose)?;
+        let name = name.into();
+        let local = shape.compute_local_aabb();
+        let reach = local.mins.abs().max(local.maxs.abs()).max_element();
+        if reach.is_nan() || reach > crate::build::MAX_SHAPE_SIZE {
+            return Err(CollisionError::InvalidObstacle {
+                name,
+                reason: format!(
+                    "the shape reaches {reach} m from its origin, more than {} m",
+                    crate::build::MAX_SHAPE_SIZE
+                ),
+            });
+        }
         let kind = Kind::of(&shape);
         let aabb = kind.aabb(&*shape, pose);
         self.obstacles.push(Some(Obstacle {
-            name: name.into(),
+            name,
             shape,
             pose: *pose,
             aabb,

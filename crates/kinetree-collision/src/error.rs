@@ -38,7 +38,8 @@ pub enum CollisionError {
         /// What is wrong with it.
         reason: String,
     },
-    /// A collision element has a shape parry cannot represent (negative or non-finite sizes, an
+    /// A collision element has a shape parry cannot represent (negative or non-finite sizes,
+    /// sizes or mesh coordinates beyond [`MAX_SHAPE_SIZE`](crate::build::MAX_SHAPE_SIZE), an
     /// empty or degenerate mesh, an unsupported geometry for this call).
     #[error("collision element {index} of link '{link}': {reason}")]
     InvalidGeometry {
@@ -147,6 +148,16 @@ pub enum CollisionError {
     InvalidTolerance {
         /// The value given.
         value: f64,
+    },
+    /// A query stopped on a panic inside a dependency (parry) instead of returning: a bug
+    /// there, caught at the query's boundary. The query's results are not written; the
+    /// collision data's buffers are reset, so the data (and the model) stay usable.
+    #[error("the {query} query failed inside parry ({message}); the collision data was reset")]
+    Panic {
+        /// The query (`"compute_distances"`, …).
+        query: &'static str,
+        /// The panic's message.
+        message: String,
     },
     /// parry cannot compute this query for this pair of shapes.
     #[error("parry does not support this query between '{shape_a}' and '{shape_b}'")]

@@ -1,17 +1,15 @@
 //! The narrow phase of the distance queries on world frames in matrix form: one
 //! quaternion-to-matrix conversion per shape and placement update instead of quaternion algebra
-//! per pair, closed forms for balls against primitives, the feature solver of
-//! [`crate::cylinders`] for cylinder pairs, and the crate's GJK/EPA for the other primitive pairs
-//! (and the cylinder pairs the solver leaves, overlapping ones among them). Pairs it does not handle (meshes, other
+//! per pair, closed forms for balls against primitives, and [`crate::primitives`] for the other
+//! primitive pairs (closed forms where GJK/EPA degenerate, the feature solver of
+//! [`crate::cylinders`] for cylinder pairs, the crate's GJK/EPA elsewhere). Pairs it does not handle (meshes, other
 //! shapes, GJK that does not settle) go through [`proximity`].
 
-use crate::cylinders::{Sides, cylinders};
-use crate::gjk::{Local, signed_distance_mat};
 use crate::narrow::{Kind, Posed, Scratch, Witness, proximity};
 use glam::{DMat3, DVec3};
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::Unsupported;
-use parry3d_f64::shape::{Cylinder, SupportMap};
+use parry3d_f64::shape::Cylinder;
 
 /// A world frame in matrix form: `p ↦ rot·p + origin`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,28 +71,13 @@ pub(crate) fn distance(
             let rot_t = fa.rot.transpose();
             let rot12 = rot_t * fb.rot;
             let t12 = rot_t * (fb.origin - fa.origin);
-            let local = match (ka, kb) {
-                (Kind::Cylinder(s1), Kind::Cylinder(s2)) => {
-                    match cylinders(rot12.y_axis, t12, s1, s2, scratch.polytope.tol) {
-                        Sides::Exact(local) => Some(local),
-                        Sides::Fallback(start) => gjk(&rot12, t12, s1, s2, start.dir, scratch),
-                    }
+            crate::primitives::pair(ka, kb, &rot12, t12, scratch).map(|(p1, p2, n, distance)| {
+                Witness {
+                    distance,
+                    point_a: fa.rot * p1 + fa.origin,
+                    point_b: fa.rot * p2 + fa.origin,
+                    normal: fa.rot * n,
                 }
-                (Kind::Cylinder(s1), Kind::Cuboid(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
-                (Kind::Cylinder(s1), Kind::Capsule(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
-                (Kind::Cuboid(s1), Kind::Cylinder(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
-                (Kind::Cuboid(s1), Kind::Cuboid(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
-                (Kind::Cuboid(s1), Kind::Capsule(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
-                (Kind::Capsule(s1), Kind::Cylinder(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
-                (Kind::Capsule(s1), Kind::Cuboid(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
-                (Kind::Capsule(s1), Kind::Capsule(s2)) => gjk0(&rot12, t12, s1, s2, scratch),
-                _ => None,
-            };
-            local.map(|(p1, p2, n, distance)| Witness {
-                distance,
-                point_a: fa.rot * p1 + fa.origin,
-                point_b: fa.rot * p2 + fa.origin,
-                normal: fa.rot * n,
             })
         }
     };
@@ -102,30 +85,6 @@ pub(crate) fn distance(
         Some(w) => Ok(Some(w)),
         None => proximity(a, b, f64::INFINITY, scratch),
     }
-}
-
-/// The crate's GJK/EPA from the direction `dir` (shape 1 toward shape 2, in shape 1's frame).
-fn gjk<G1: SupportMap, G2: SupportMap>(
-    rot12: &DMat3,
-    t12: DVec3,
-    g1: &G1,
-    g2: &G2,
-    dir: DVec3,
-    scratch: &mut Scratch,
-) -> Option<Local> {
-    signed_distance_mat(rot12, t12, g1, g2, dir, &mut scratch.polytope)
-}
-
-/// [`gjk`] from the direction between the shapes' origins, as [`proximity`] starts it.
-fn gjk0<G1: SupportMap, G2: SupportMap>(
-    rot12: &DMat3,
-    t12: DVec3,
-    g1: &G1,
-    g2: &G2,
-    scratch: &mut Scratch,
-) -> Option<Local> {
-    let dir = t12.try_normalize().unwrap_or(DVec3::X);
-    gjk(rot12, t12, g1, g2, dir, scratch)
 }
 
 /// A ball (world centre `center`, radius `radius`) against a box, cylinder or capsule with
@@ -233,7 +192,7 @@ fn ball_witness(
 /// The surface point of a solid cylinder closest to `c` (its frame), the outward normal there
 /// and the signed distance of `c` (negative inside).
 #[inline(always)]
-fn cylinder_point(c: DVec3, cyl: &Cylinder) -> (DVec3, DVec3, f64) {
+pub(crate) fn cylinder_point(c: DVec3, cyl: &Cylinder) -> (DVec3, DVec3, f64) {
     let (h, r) = (cyl.half_height, cyl.radius);
     let rho = (c.x * c.x + c.z * c.z).sqrt();
     let u = if rho > 0.0 {
@@ -270,7 +229,7 @@ fn outside(c: DVec3, p: DVec3) -> (DVec3, DVec3, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cylinders::cylinder_sides;
+    use crate::cylinders::{Sides, cylinder_sides};
     use crate::narrow::Scratch;
     use glam::DQuat;
     use parry3d_f64::math::Vector;

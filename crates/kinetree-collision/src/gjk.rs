@@ -101,16 +101,22 @@ fn gjk(support: &impl Fn(DVec3) -> Vertex, dir: DVec3, tol: f64) -> Outcome {
     let mut n = 1;
     let mut lambda = [1.0, 0.0, 0.0, 0.0];
     let mut v = simplex[0].w;
+    // The largest support point seen: round-off is relative to it (huge shapes).
+    let mut scale = v.length().max(1.0);
     for _ in 0..MAX_ITERATIONS {
         let vv = v.length_squared();
-        if vv < 1e-24 {
-            return if n == 3 {
-                lift(support, &simplex)
-            } else {
-                Outcome::Unknown
+        if vv < 1e-24 * scale * scale {
+            // The origin lies on the simplex: the shapes touch or overlap. Coincident or
+            // symmetric shapes end here (a segment through the origin, say); EPA starts from
+            // a tetrahedron built around the simplex.
+            return match n {
+                1 => lift_point(support, &simplex),
+                2 => lift_segment(support, &simplex),
+                _ => lift(support, &simplex),
             };
         }
         let w = support(-v);
+        scale = scale.max(w.w.length());
         // Lower bound of the distance: v·w / |v|; stop when it meets the upper bound |v|.
         let gap = vv - v.dot(w.w);
         // A repeated vertex means no progress is possible either.
@@ -177,6 +183,51 @@ fn lift(support: &impl Fn(DVec3) -> Vertex, s: &[Vertex; 4]) -> Outcome {
             let mut t = *s;
             t[3] = w;
             return Outcome::Enclosed(t);
+        }
+    }
+    Outcome::Unknown
+}
+
+/// A triangle around the segment `s[..2]` through the origin (within round-off), then
+/// [`lift`]: the support point along one of six directions normal to the segment that lies off
+/// its line.
+fn lift_segment(support: &impl Fn(DVec3) -> Vertex, s: &[Vertex; 4]) -> Outcome {
+    let (a, b) = (s[0].w, s[1].w);
+    let Some(axis) = (b - a).try_normalize() else {
+        return Outcome::Unknown;
+    };
+    let (e1, e2) = axis.any_orthonormal_pair();
+    let scale = a.length().max(b.length());
+    for k in 0..6 {
+        let (sin, cos) = (f64::from(k) * core::f64::consts::FRAC_PI_3).sin_cos();
+        let w = support(e1 * cos + e2 * sin);
+        let off = w.w - a;
+        if (off - axis * off.dot(axis)).length() > 1e-9 * scale.max(w.w.length()) {
+            let mut t = *s;
+            t[2] = w;
+            return lift(support, &t);
+        }
+    }
+    Outcome::Unknown
+}
+
+/// A segment from the vertex `s[0]` at the origin (within round-off) to a support point away
+/// from it, then [`lift_segment`].
+fn lift_point(support: &impl Fn(DVec3) -> Vertex, s: &[Vertex; 4]) -> Outcome {
+    let a = s[0].w;
+    for dir in [
+        DVec3::X,
+        DVec3::NEG_X,
+        DVec3::Y,
+        DVec3::NEG_Y,
+        DVec3::Z,
+        DVec3::NEG_Z,
+    ] {
+        let w = support(dir);
+        if (w.w - a).length() > 1e-9 * a.length().max(w.w.length()) {
+            let mut t = *s;
+            t[1] = w;
+            return lift_segment(support, &t);
         }
     }
     Outcome::Unknown
@@ -251,13 +302,21 @@ impl Polytope {
         self.vertices.clear();
         self.faces.clear();
         self.vertices.extend_from_slice(&tetrahedron);
+        // Round-off grows with the size of the difference: the thresholds below are absolute
+        // up to 1 m and relative beyond (a box 1e6 m long, say).
+        let slack = tetrahedron.iter().map(|v| v.w.length()).fold(1.0, f64::max);
+        let noise = if slack > 1.0 {
+            16.0 * f64::EPSILON * slack
+        } else {
+            0.0
+        };
         for [i, j, k, l] in [[0, 1, 2, 3], [0, 3, 1, 2], [0, 2, 3, 1], [1, 3, 2, 0]] {
             let mut f = self.face([i, j, k])?;
             // Orient outward: the fourth vertex is behind the face.
             if f.normal.dot(self.vertices[l as usize].w) > f.distance {
                 f = self.face([i, k, j])?;
             }
-            if f.distance < -1e-12 {
+            if f.distance < -1e-12 * slack {
                 return None;
             }
             self.faces.push(f);
@@ -269,7 +328,7 @@ impl Polytope {
                 .min_by(|x, y| x.distance.total_cmp(&y.distance))?;
             let w = support(nearest.normal);
             let upper = nearest.normal.dot(w.w);
-            if upper - nearest.distance <= self.tol * nearest.distance.max(1e-3) {
+            if upper - nearest.distance <= self.tol * nearest.distance.max(1e-3) + noise {
                 return self.witness(&nearest);
             }
             let new = u32::try_from(self.vertices.len()).ok()?;
@@ -279,7 +338,7 @@ impl Polytope {
             let mut k = 0;
             while k < self.faces.len() {
                 let f = self.faces[k];
-                if f.normal.dot(w.w) > f.distance + 1e-14 {
+                if f.normal.dot(w.w) > f.distance + 1e-14 * slack {
                     for e in [
                         (f.vertices[0], f.vertices[1]),
                         (f.vertices[1], f.vertices[2]),
@@ -302,7 +361,7 @@ impl Polytope {
             for h in 0..self.horizon.len() {
                 let (i, j) = self.horizon[h];
                 let f = self.face([i, j, new])?;
-                if f.distance < -1e-12 {
+                if f.distance < -1e-12 * slack {
                     return None;
                 }
                 self.faces.push(f);

@@ -49,12 +49,20 @@
 //! - SI units (m); `q` has `model.nq()` entries, as in the kinematics layer.
 //! - **Signed distance:** positive = separation distance; negative = penetration depth (the
 //!   shortest translation separating the shapes), as coal (Pinocchio's collision library)
-//!   reports it. Two spheres, a sphere and a box, cylinder or capsule, and two cylinders side
-//!   to side are computed in closed form; other convex pairs by GJK (separated) and EPA
-//!   (penetrating) to a relative precision of 1e-8, with parry's GJK/EPA as the fallback;
-//!   a triangle mesh against a convex shape triangle by triangle; two triangle meshes by a
-//!   traversal of both bounding-volume trees that prunes with the closest pair found so far
-//!   (a mesh is a surface: two overlapping meshes report their deepest crossing triangles).
+//!   reports it. Two spheres, a sphere and a box, cylinder or capsule, two capsules, two
+//!   cylinders side to side, parallel cylinders (and a capsule parallel to a cylinder), and
+//!   overlapping boxes (or a capsule's segment in a box, by separating axes) are computed in
+//!   closed form, so coincident, nested and very long shapes keep their exact depth; other
+//!   convex pairs by GJK (separated) and EPA (penetrating) to a relative precision of 1e-8, with
+//!   parry's GJK/EPA as the fallback; a triangle mesh against a convex shape triangle by
+//!   triangle; two triangle meshes by a traversal of both bounding-volume trees that prunes
+//!   with the closest pair found so far (a mesh is a surface: two overlapping meshes report
+//!   their deepest crossing triangles).
+//! - A closed triangle mesh (every edge shared by two triangles) is a solid for balls and
+//!   capsules: a ball's distance is its centre's signed distance to the mesh (negative inside)
+//!   less its radius, a capsule's that of its segment's deepest point when the segment reaches
+//!   inside ([`is_closed_trimesh`]). Other shapes, and every shape against an open mesh, see the
+//!   mesh as a surface.
 //! - Witness points and normals ([`Proximity`]) are in the world frame; the normal points from
 //!   the first shape toward the second.
 //! - URDF shapes: box = full side lengths, cylinder = radius and full length along the
@@ -69,7 +77,9 @@
 //!
 //! ## Errors
 //! [`CollisionError`] names the offending file, link, shape or obstacle; kinematics errors are
-//! wrapped.
+//! wrapped. Shapes larger than [`MAX_SHAPE_SIZE`] are refused where they are built. A panic
+//! inside parry during a query is caught at the query's boundary and returned as
+//! [`CollisionError::Panic`]; the data stays usable.
 //!
 //! ## Modules
 //! - `model`: [`CollisionModel`]; [`build`]: building it from the model's geometry
@@ -79,8 +89,9 @@
 //!   files; `pose`: conversions to parry's poses.
 //! - [`batch`]: signed distances of `N` configurations in one call ([`batch::CollisionBatch`]).
 //! - [`query`]: the queries (`plan`: the candidate pairs grouped by shape kinds for the distance
-//!   loops); `narrow`: the narrow phase (closed forms, `cylinders`: cylinder pairs solved on
-//!   their closest features, then `gjk`, the crate's GJK/EPA, then parry).
+//!   loops); `narrow`: the narrow phase (closed forms, `primitives`: the pairs of cylinders,
+//!   boxes and capsules, `cylinders`: cylinder pairs solved on their closest features, then
+//!   `gjk`, the crate's GJK/EPA, then parry).
 //! - `error`: [`CollisionError`].
 //!
 //! ## Optional cargo features
@@ -100,12 +111,16 @@ mod narrow;
 mod pairs;
 mod plan;
 mod pose;
+mod primitives;
 pub mod query;
 pub mod sampling;
 mod scene;
 pub mod srdf;
 
-pub use build::{CollisionOptions, MeshMode, MissingMeshes, shape_from_geometry};
+pub use build::{
+    CollisionOptions, MAX_SHAPE_SIZE, MeshMode, MissingMeshes, is_closed_trimesh,
+    shape_from_geometry,
+};
 pub use data::{CollisionData, LinkPairDistance, Obstacle, ObstacleId, Proximity};
 pub use error::CollisionError;
 pub use kinetree_kinematics as kinematics;

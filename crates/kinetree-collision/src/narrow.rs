@@ -8,13 +8,17 @@
 use crate::cylinders::{Sides, cylinder_sides, cylinders};
 use crate::frames::ball_primitive;
 use glam::DVec3;
-use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::epa::EPA;
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
-use parry3d_f64::query::{self, ClosestPoints, PointQueryWithLocation, Unsupported, details};
-use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, Shape, SharedShape, SupportMap};
+use parry3d_f64::query::{
+    self, ClosestPoints, PointQuery, PointQueryWithLocation, Unsupported, details,
+};
+use parry3d_f64::shape::{
+    Ball, Capsule, Cuboid, Cylinder, Shape, SharedShape, SupportMap, TriMesh,
+};
 
 /// The concrete type of a shape, for static dispatch.
 #[derive(Clone, Copy, Debug)]
@@ -154,6 +158,21 @@ pub(crate) fn proximity(
         return Ok((r.distance <= max_dist).then_some(r));
     }
     let pos12 = a.pose.inv_mul(b.pose);
+    // Distance queries between primitives: closed forms where GJK/EPA degenerate, then the
+    // crate's GJK/EPA (as the pair loops compute them); parry's below when those do not settle.
+    if max_dist > 0.0
+        && crate::primitives::is_solid(a.kind)
+        && crate::primitives::is_solid(b.kind)
+        && let Some(local) = crate::primitives::pair(
+            a.kind,
+            b.kind,
+            &glam::DMat3::from_quat(pos12.rotation),
+            pos12.translation,
+            scratch,
+        )
+    {
+        return Ok((local.3 <= max_dist).then(|| in_world(a.pose, local)));
+    }
     let local: Option<Local> = match (a.kind, b.kind) {
         (Kind::Ball(ball), Kind::Cylinder(s)) => ball_convex(&pos12, ball, s, max_dist),
         (Kind::Ball(ball), Kind::Cuboid(s)) => ball_convex(&pos12, ball, s, max_dist),
@@ -187,6 +206,13 @@ pub(crate) fn proximity(
         (Kind::Capsule(s1), Kind::Cuboid(s2)) => support(&pos12, s1, s2, max_dist, scratch),
         (Kind::Capsule(s1), Kind::Capsule(s2)) => support(&pos12, s1, s2, max_dist, scratch),
         _ => {
+            if let Some(w) = ball_mesh(a, b, max_dist) {
+                // A ball and a triangle mesh: the closest point of the mesh, no EPA.
+                return Ok(w);
+            }
+            if let Some(w) = capsule_mesh(a, b, max_dist, scratch) {
+                return Ok(w);
+            }
             if let (Some(ball), true) = (a.shape.as_ball(), b.shape.is_convex()) {
                 ball_convex(&pos12, ball, b.shape, max_dist)
             } else if let (true, Some(ball)) = (a.shape.is_convex(), b.shape.as_ball()) {
@@ -304,14 +330,198 @@ where
             Some((p1, p2, n, len))
         }
         GJKResult::Intersection => {
+            // Collision queries: the crate's EPA first (it starts from the degenerate simplices
+            // of coincident and symmetric shapes, where parry's gives up); distance queries
+            // already tried it above.
+            if max_dist <= 0.0
+                && let Some(local) =
+                    crate::gjk::signed_distance(pos12, g1, g2, dir, &mut scratch.polytope)
+                && local.3 <= 0.0
+            {
+                return Some(local);
+            }
             match scratch.epa.closest_points(pos12, g1, g2, &scratch.simplex) {
                 Some((p1, p2, n)) => Some((p1, p2, n, (p2 - p1).dot(n).min(0.0))),
-                // EPA failed on a degenerate configuration: report touching.
-                None => Some((Vector::ZERO, Vector::ZERO, Vector::X, 0.0)),
+                // Both EPAs failed: a conservative depth rather than "touching".
+                None => Some(conservative_depth(pos12, g1, g2)),
             }
         }
         GJKResult::NoIntersection(_) | GJKResult::Proximity(_) => None,
     }
+}
+
+/// An upper bound of the penetration depth of two overlapping shapes, for when both EPAs fail:
+/// the smallest extent of their difference over 26 directions (the faces, edges and corners of
+/// a cube). Moving the second shape that far along the reported normal separates them, so the
+/// depth is never understated (the old fallback reported touching).
+fn conservative_depth<G1, G2>(pos12: &Pose, g1: &G1, g2: &G2) -> Local
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
+    let mut best = (f64::INFINITY, Vector::ZERO, Vector::ZERO, Vector::X);
+    for k in 0..27 {
+        let i = |m: i32| f64::from((k / m) % 3 - 1);
+        let Some(n) = Vector::new(i(1), i(3), i(9)).try_normalize() else {
+            continue;
+        };
+        let p1 = g1.local_support_point(n);
+        let p2 = pos12 * g2.local_support_point(pos12.rotation.inverse() * -n);
+        let extent = n.dot(p1 - p2);
+        if extent < best.0 {
+            best = (extent, p1, p2, n);
+        }
+    }
+    let (extent, p1, p2, n) = best;
+    (p1, p2, n, -extent.max(0.0))
+}
+
+/// A ball and a triangle mesh (either order): `None` when the pair is not one. The signed
+/// distance is the ball centre's distance to the closest point of the triangles, less the
+/// radius, negated (and then less the radius) when the mesh is closed and the centre inside it
+/// (parry's pseudo-normal test, [`crate::is_closed_trimesh`]). An open mesh is a surface: a
+/// centre on either side is outside.
+fn ball_mesh(a: Posed<'_>, b: Posed<'_>, max_dist: f64) -> Option<Option<Witness>> {
+    let (ball, ball_pose, mesh, mesh_pose, mesh_first) =
+        if let (Some(ball), Some(mesh)) = (a.shape.as_ball(), b.shape.as_trimesh()) {
+            (ball, a.pose, mesh, b.pose, false)
+        } else if let (Some(mesh), Some(ball)) = (a.shape.as_trimesh(), b.shape.as_ball()) {
+            (ball, b.pose, mesh, a.pose, true)
+        } else {
+            return None;
+        };
+    let r = ball.radius;
+    let c = mesh_pose.inverse_transform_point(ball_pose.translation);
+    // Beyond the bound from the mesh's box: no projection needed.
+    if max_dist.is_finite() && mesh.local_aabb().distance_to_local_point(c, true) - r > max_dist {
+        return Some(None);
+    }
+    let (distance, on_mesh, n) = sphere_mesh(mesh, c, r);
+    Some(
+        (distance <= max_dist)
+            .then(|| mesh_witness(mesh_pose, mesh_first, distance, on_mesh, c - n * r, n)),
+    )
+}
+
+/// A ball at `c` (the mesh's frame) of radius `r` against a triangle mesh: the signed
+/// distance (see [`ball_mesh`]), the mesh's closest point and its outward normal there.
+fn sphere_mesh(mesh: &TriMesh, c: Vector, r: f64) -> (f64, Vector, Vector) {
+    let (proj, (id, _)) = mesh.project_local_point_and_get_location(c, false);
+    let inside = proj.is_inside && mesh.pseudo_normals_if_oriented().is_some();
+    let gap = c - proj.point;
+    let len = gap.length();
+    // The outward normal: toward the centre when it is outside.
+    let n = if len > 0.0 {
+        if inside { -gap / len } else { gap / len }
+    } else {
+        mesh.triangle(id).normal().unwrap_or(Vector::Z)
+    };
+    (if inside { -len } else { len } - r, proj.point, n)
+}
+
+/// The world witness of a mesh (at `mesh_pose`) and another shape from points and the mesh's
+/// outward normal in the mesh's frame, in the pair's order.
+fn mesh_witness(
+    mesh_pose: &Pose,
+    mesh_first: bool,
+    distance: f64,
+    on_mesh: Vector,
+    on_other: Vector,
+    n: Vector,
+) -> Witness {
+    let (on_mesh, on_other, n) = (
+        mesh_pose.transform_point(on_mesh),
+        mesh_pose.transform_point(on_other),
+        mesh_pose.rotation * n,
+    );
+    if mesh_first {
+        Witness {
+            distance,
+            point_a: on_mesh,
+            point_b: on_other,
+            normal: n,
+        }
+    } else {
+        Witness {
+            distance,
+            point_a: on_other,
+            point_b: on_mesh,
+            normal: -n,
+        }
+    }
+}
+
+/// Samples of a capsule's segment for [`capsule_mesh`].
+const SEGMENT_SAMPLES: u32 = 16;
+
+/// A capsule and a closed triangle mesh (either order): `None` when the pair is not one. Where
+/// the capsule's segment reaches the mesh's inside (or its surface), the signed distance is that
+/// of its deepest point, as a ball of the capsule's radius there ([`ball_mesh`]): the
+/// segment's signed distance to the solid is sampled along it and refined around the smallest
+/// sample by golden-section search. Otherwise (and for an open mesh, a surface) the
+/// triangle-by-triangle query of [`mesh_convex`], exact for a segment outside.
+fn capsule_mesh(
+    a: Posed<'_>,
+    b: Posed<'_>,
+    max_dist: f64,
+    scratch: &mut Scratch,
+) -> Option<Option<Witness>> {
+    let (capsule, capsule_pose, mesh, mesh_pose, mesh_first) =
+        match (a.kind, b.shape.as_trimesh(), a.shape.as_trimesh(), b.kind) {
+            (Kind::Capsule(c), Some(mesh), _, _) => (c, a.pose, mesh, b.pose, false),
+            (_, _, Some(mesh), Kind::Capsule(c)) => (c, b.pose, mesh, a.pose, true),
+            _ => return None,
+        };
+    let pos = mesh_pose.inv_mul(capsule_pose);
+    let (e0, e1) = (pos * capsule.segment.a, pos * capsule.segment.b);
+    let r = capsule.radius;
+    let capsule_box = Aabb::new(e0.min(e1) - Vector::splat(r), e0.max(e1) + Vector::splat(r));
+    if mesh.pseudo_normals_if_oriented().is_none() || !capsule_box.intersects(&mesh.local_aabb()) {
+        // Open, or clearly outside: the surface query.
+        return mesh_convex(a, b, max_dist, scratch);
+    }
+    let at = |t: f64| e0 + (e1 - e0) * t;
+    let depth = |t: f64| sphere_mesh(mesh, at(t), 0.0).0;
+    let (mut best_t, mut best) = (0.0, f64::INFINITY);
+    for k in 0..=SEGMENT_SAMPLES {
+        let t = f64::from(k) / f64::from(SEGMENT_SAMPLES);
+        let d = depth(t);
+        if d < best {
+            (best_t, best) = (t, d);
+        }
+    }
+    if best > 0.0 {
+        // The segment stays outside: the surface query is exact.
+        return mesh_convex(a, b, max_dist, scratch);
+    }
+    // Golden-section search for the deepest point between the neighbouring samples.
+    let step = 1.0 / f64::from(SEGMENT_SAMPLES);
+    let (mut lo, mut hi) = ((best_t - step).max(0.0), (best_t + step).min(1.0));
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f1, mut f2) = (depth(x1), depth(x2));
+    for _ in 0..40 {
+        if f1 < f2 {
+            (hi, x2, f2) = (x2, x1, f1);
+            x1 = hi - g * (hi - lo);
+            f1 = depth(x1);
+        } else {
+            (lo, x1, f1) = (x1, x2, f2);
+            x2 = lo + g * (hi - lo);
+            f2 = depth(x2);
+        }
+    }
+    for (t, d) in [(x1, f1), (x2, f2)] {
+        if d < best {
+            (best_t, best) = (t, d);
+        }
+    }
+    let c = at(best_t);
+    let (distance, on_mesh, n) = sphere_mesh(mesh, c, r);
+    Some(
+        (distance <= max_dist)
+            .then(|| mesh_witness(mesh_pose, mesh_first, distance, on_mesh, c - n * r, n)),
+    )
 }
 
 /// A triangle mesh against a convex shape (either order), triangle by triangle with the crate's
@@ -589,6 +799,13 @@ pub(crate) fn intersects(
         (Kind::Ball(ba), Kind::Ball(bb)) => {
             let r = ba.radius + bb.radius;
             pos12.translation.length_squared() <= r * r
+        }
+        (Kind::Ball(_) | Kind::Capsule(_), Kind::Other)
+        | (Kind::Other, Kind::Ball(_) | Kind::Capsule(_))
+            if a.shape.as_trimesh().is_some() || b.shape.as_trimesh().is_some() =>
+        {
+            // Inside a closed mesh counts (see `ball_mesh`, `capsule_mesh`).
+            proximity(a, b, 0.0, scratch)?.is_some()
         }
         (Kind::Ball(_), Kind::Other)
         | (Kind::Other, Kind::Ball(_))

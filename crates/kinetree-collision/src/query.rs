@@ -57,6 +57,10 @@ pub fn any_collision(
     data: &mut CollisionData,
 ) -> Result<bool, CollisionError> {
     data.check_model(cmodel)?;
+    guarded("any_collision", data, |data| any_overlap(cmodel, data))
+}
+
+fn any_overlap(cmodel: &CollisionModel, data: &mut CollisionData) -> Result<bool, CollisionError> {
     let mut result = Ok(false);
     let world = &data.world_from_shape;
     let obstacles = &data.obstacles;
@@ -104,6 +108,13 @@ pub fn compute_self_collisions<'d>(
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
     data.check_model(cmodel)?;
+    guarded("compute_self_collisions", data, |data| {
+        self_contacts(cmodel, data)
+    })?;
+    Ok(&data.contacts)
+}
+
+fn self_contacts(cmodel: &CollisionModel, data: &mut CollisionData) -> Result<(), CollisionError> {
     data.contacts.clear();
     let mut result = Ok(());
     let world = &data.world_from_shape;
@@ -127,7 +138,7 @@ pub fn compute_self_collisions<'d>(
     });
     result?;
     data.contacts.sort_unstable_by_key(|c| (c.a, c.b));
-    Ok(&data.contacts)
+    Ok(())
 }
 
 /// Every shape–obstacle pair that overlaps, with its contact (as in [`compute_self_collisions`];
@@ -142,6 +153,13 @@ pub fn compute_world_collisions<'d>(
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
     data.check_model(cmodel)?;
+    guarded("compute_world_collisions", data, |data| {
+        world_contacts(cmodel, data)
+    })?;
+    Ok(&data.world_contacts)
+}
+
+fn world_contacts(cmodel: &CollisionModel, data: &mut CollisionData) -> Result<(), CollisionError> {
     data.world_contacts.clear();
     let mut result = Ok(());
     let n = cmodel.shapes.len();
@@ -167,7 +185,7 @@ pub fn compute_world_collisions<'d>(
     });
     result?;
     data.world_contacts.sort_unstable_by_key(|c| (c.a, c.b));
-    Ok(&data.world_contacts)
+    Ok(())
 }
 
 /// The signed distance of every candidate pair with its witness points (see [`Proximity`]),
@@ -209,6 +227,13 @@ pub fn compute_distances<'d>(
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
     data.check_model(cmodel)?;
+    guarded("compute_distances", data, |data| {
+        pair_distances(cmodel, data)
+    })?;
+    Ok(&data.distances)
+}
+
+fn pair_distances(cmodel: &CollisionModel, data: &mut CollisionData) -> Result<(), CollisionError> {
     data.scratch.polytope.tol = cmodel.distance_tolerance;
     if !distances_by_kind(cmodel, data) {
         // A pair failed (unsupported, or not finite): the loop in pair order names the first.
@@ -228,7 +253,7 @@ pub fn compute_distances<'d>(
             lp.shape_b = d.b;
         }
     }
-    Ok(&data.distances)
+    Ok(())
 }
 
 /// The signed distance of every candidate pair into `data.distances`, kind by kind (see
@@ -316,6 +341,16 @@ pub fn compute_world_distances<'d>(
     data: &'d mut CollisionData,
 ) -> Result<&'d [Proximity], CollisionError> {
     data.check_model(cmodel)?;
+    guarded("compute_world_distances", data, |data| {
+        world_distances(cmodel, data)
+    })?;
+    Ok(&data.world_distances)
+}
+
+fn world_distances(
+    cmodel: &CollisionModel,
+    data: &mut CollisionData,
+) -> Result<(), CollisionError> {
     data.scratch.polytope.tol = cmodel.distance_tolerance;
     data.world_distances.clear();
     let world = &data.world_from_shape;
@@ -334,7 +369,30 @@ pub fn compute_world_distances<'d>(
             data.world_distances.push(with_ids(w, a, k));
         }
     }
-    Ok(&data.world_distances)
+    Ok(())
+}
+
+/// Runs a query's `body`, turning a panic inside it (a bug in parry, which the queries call
+/// into) into [`CollisionError::Panic`] instead of letting it unwind through the caller (and
+/// poison the caller's locks). The narrow phase's scratch buffers are reset then, so the data
+/// answers the next query as a new one would. Catching costs nothing while nothing panics.
+fn guarded<T>(
+    query: &'static str,
+    data: &mut CollisionData,
+    body: impl FnOnce(&mut CollisionData) -> Result<T, CollisionError>,
+) -> Result<T, CollisionError> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| body(&mut *data))) {
+        Ok(result) => result,
+        Err(payload) => {
+            data.scratch = crate::narrow::Scratch::default();
+            let message = payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic".to_string());
+            Err(CollisionError::Panic { query, message })
+        }
+    }
 }
 
 /// For configuration `q` (length `model.nq()`): forward kinematics, shape placement and
@@ -468,5 +526,45 @@ fn sweep(
                 return;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::CollisionOptions;
+    use kinetree_kinematics::configuration::neutral_configuration;
+    use kinetree_kinematics::model::RootJoint;
+
+    /// A panic inside a query's body is a typed error, and the data answers the next query as
+    /// before.
+    #[test]
+    fn a_panic_in_a_query_is_an_error_and_the_data_stays_usable() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../tests/data/reference/urdf/panda_collision.urdf"
+        );
+        let model = Model::from_urdf_file(path, RootJoint::Fixed).unwrap();
+        let cmodel = CollisionModel::from_model(&model, &CollisionOptions::default()).unwrap();
+        let mut kinematics = KinematicsData::new(&model);
+        let mut data = CollisionData::new(&cmodel);
+        let q = neutral_configuration(&model);
+        data.compute_placements(&model, &cmodel, &mut kinematics, &q)
+            .unwrap();
+        let before = compute_distances(&cmodel, &mut data).unwrap().to_vec();
+        let failed: Result<(), _> = guarded("test", &mut data, |data| {
+            pair_distances(&cmodel, data)?;
+            panic!("index out of bounds: the len is 0 but the index is 0")
+        });
+        match failed {
+            Err(CollisionError::Panic { query, message }) => {
+                assert_eq!(query, "test");
+                assert!(message.starts_with("index out of bounds"), "{message}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let after = compute_distances(&cmodel, &mut data).unwrap();
+        assert_eq!(after, &before[..]);
+        assert!(!any_collision(&cmodel, &mut data).unwrap() || !before.is_empty());
     }
 }

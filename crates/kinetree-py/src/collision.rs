@@ -49,6 +49,17 @@ pub(crate) struct PyCollisionModel {
     scratch: Mutex<(KinematicsData, CollisionData)>,
 }
 
+/// Locks `mutex`, recovering it when a panic poisoned it: the collision queries catch parry's
+/// panics (`CollisionError::Panic`), and what the locks hold (obstacle specifications, buffers
+/// every query rebuilds) stays valid after any other, so one failure must not make every later
+/// call raise.
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|poisoned| {
+        mutex.clear_poison();
+        poisoned.into_inner()
+    })
+}
+
 impl PyCollisionModel {
     /// The current collision model.
     fn cm(&self) -> Arc<CollisionModel> {
@@ -72,11 +83,7 @@ impl PyCollisionModel {
     }
 
     fn obstacles(&self) -> PyResult<Vec<ObstacleSpec>> {
-        Ok(self
-            .obstacles
-            .lock()
-            .map_err(|_| F.err("lock poisoned"))?
-            .clone())
+        Ok(lock(&self.obstacles).clone())
     }
 
     /// Runs `f` on one configuration with the shared buffers.
@@ -92,7 +99,13 @@ impl PyCollisionModel {
         };
         match self.scratch.try_lock() {
             Ok(mut s) => run(&mut s),
-            Err(TryLockError::Poisoned(p)) => run(&mut p.into_inner()),
+            Err(TryLockError::Poisoned(p)) => {
+                // A panic left the buffers in an unknown state: start again from fresh ones.
+                let mut s = p.into_inner();
+                *s = self.new_data(&self.obstacles()?).map_err(py_err)?;
+                self.scratch.clear_poison();
+                run(&mut s)
+            }
             Err(TryLockError::WouldBlock) => {
                 let mut fresh = self.new_data(&self.obstacles()?).map_err(py_err)?;
                 run(&mut fresh)
@@ -294,12 +307,12 @@ impl PyCollisionModel {
             geometry,
             pose,
         };
-        let mut scratch = self.scratch.lock().map_err(|_| F.err("lock poisoned"))?;
+        let mut scratch = lock(&self.scratch);
         scratch
             .1
             .add_obstacle(spec.name.clone(), &spec.geometry, &spec.pose, &self.options)
             .map_err(py_err)?;
-        let mut list = self.obstacles.lock().map_err(|_| F.err("lock poisoned"))?;
+        let mut list = lock(&self.obstacles);
         list.push(spec);
         Ok(list.len() - 1)
     }
@@ -336,15 +349,8 @@ impl PyCollisionModel {
 
     /// Removes every world obstacle.
     fn clear_obstacles(&self) -> PyResult<()> {
-        self.scratch
-            .lock()
-            .map_err(|_| F.err("lock poisoned"))?
-            .1
-            .clear_obstacles();
-        self.obstacles
-            .lock()
-            .map_err(|_| F.err("lock poisoned"))?
-            .clear();
+        lock(&self.scratch).1.clear_obstacles();
+        lock(&self.obstacles).clear();
         Ok(())
     }
 

@@ -3,6 +3,7 @@
 mod allocation;
 mod batch;
 mod common;
+mod degenerate;
 mod hand;
 mod mesh_primitives;
 mod meshes;
