@@ -1,6 +1,7 @@
 //! `kinetree view <model>`: a 3D viewer in the browser, served from the command line.
 //!
-//! The command starts an HTTP/1.1 server (tiny_http, four worker threads) bound to 127.0.0.1
+//! The command starts an HTTP/1.1 server (hyper on a tokio current-thread runtime, four threads
+//! for the computations; `server.rs` lists its limits and deadlines) bound to 127.0.0.1
 //! (another address only with `--bind`, which prints a warning) on a free port (or `--port`),
 //! prints the URL and opens the default browser unless `--no-open`. The page is three.js
 //! (vendored from the npm package `three` with its licence, compiled into the binary) and
@@ -25,8 +26,9 @@
 //!
 //! Errors are `{"error": message}`: 400 for bad JSON, an unknown joint or frame, a wrong
 //! length or a non-finite number; 404 for an unknown path or a mesh path outside the mesh
-//! directories (`..`, absolute, or a symlink that leads out); 405 for a wrong method; 413 for
-//! a body over 1 MiB. The server keeps serving after any of them.
+//! directories (`..`, absolute, or a symlink that leads out); 405 for a wrong method; 408 for
+//! a body that does not arrive within 10 s; 413 for a body over 1 MiB; 431 for a request head
+//! over 16 KiB. The server keeps serving after any of them.
 //!
 //! # Trajectories
 //!
@@ -264,12 +266,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             args.bind
         );
     }
-    let addr = if args.bind.contains(':') {
-        format!("[{}]:{}", args.bind, args.port)
-    } else {
-        format!("{}:{}", args.bind, args.port)
-    };
-    let running = server::start(Arc::new(state), &addr, 4)?;
+    let running = server::start(Arc::new(state), &args.bind, args.port, 4)?;
     let host = if args.bind.contains(':') {
         format!("[{}]", args.bind)
     } else {

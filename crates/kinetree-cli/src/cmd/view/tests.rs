@@ -11,6 +11,7 @@ use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 fn panda_path() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/robots/panda.urdf")
@@ -19,7 +20,7 @@ fn panda_path() -> PathBuf {
 fn serve(args: &Args) -> (server::Running, Arc<State>) {
     let state = Arc::new(State::new(args).unwrap());
     (
-        server::start(Arc::clone(&state), "127.0.0.1:0", 4).unwrap(),
+        server::start(Arc::clone(&state), "127.0.0.1", 0, 4).unwrap(),
         state,
     )
 }
@@ -32,9 +33,17 @@ fn panda_args() -> Args {
     }
 }
 
+/// A raw connection to the server on loopback that gives up reading or writing after 30 s.
+fn raw_client(port: u16) -> TcpStream {
+    let s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+    s.set_write_timeout(Some(Duration::from_secs(30))).unwrap();
+    s
+}
+
 /// One request on a fresh connection: (status, body).
 fn http(port: u16, method: &str, path: &str, body: &[u8]) -> (u16, Vec<u8>) {
-    let mut s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    let mut s = raw_client(port);
     let head = format!(
         "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
         body.len()
@@ -617,4 +626,144 @@ fn relative_meshes_are_found_next_to_the_model_before_the_mesh_paths() {
     assert_eq!(found(vec![other.clone()]), [theirs]);
     assert!(found(Vec::new()).is_empty());
     std::fs::remove_dir_all(&root).unwrap();
+}
+
+/// What a raw client got: the bytes read, and whether the server closed the connection (rather
+/// than the read timing out).
+fn read_until_closed(s: &mut TcpStream, timeout: Duration) -> (Vec<u8>, bool) {
+    s.set_read_timeout(Some(timeout)).unwrap();
+    let mut out = Vec::new();
+    let mut buf = [0u8; 4096];
+    loop {
+        match s.read(&mut buf) {
+            Ok(0) => return (out, true),
+            Ok(n) => out.extend_from_slice(&buf[..n]),
+            // A reset is a close too (the server closed with unread bytes).
+            Err(e) if e.kind() == std::io::ErrorKind::ConnectionReset => return (out, true),
+            Err(_) => return (out, false),
+        }
+    }
+}
+
+/// The status code of the response at the start of `bytes`, if there is one.
+fn status_of(bytes: &[u8]) -> Option<u16> {
+    let text = String::from_utf8_lossy(bytes);
+    text.strip_prefix("HTTP/1.1 ")?.get(..3)?.parse().ok()
+}
+
+/// A correct `/api/fk` answers within 5 s, equal to the library.
+fn assert_fk_answers(port: u16, model: &Model) {
+    let start = Instant::now();
+    let mut q = kinetree::kinematics::configuration::neutral_configuration(model);
+    q[0] = 0.3;
+    let (status, answer) = post_json(port, "/api/fk", &json!({ "q": q }));
+    assert_eq!(status, 200, "{answer}");
+    assert_links_equal(&answer, &library_links(model, &q));
+    assert!(
+        start.elapsed() < Duration::from_secs(5),
+        "{:?}",
+        start.elapsed()
+    );
+}
+
+/// Issue #39, item 1: a declared Content-Length is never allocated. 1e14 bytes gets 413 (it
+/// aborted the process), u64::MAX gets 431 (it panicked a worker: five of them left none),
+/// and a GET's declared body is never read; a head over the limit gets 431.
+#[test]
+fn huge_declared_bodies_are_refused_before_allocation_and_the_server_keeps_serving() {
+    let (running, state) = serve(&panda_args());
+    let port = running.port;
+    let cases = [
+        ("POST /api/fk", "100000000000000", 413),
+        ("POST /api/ik", "18446744073709551615", 431),
+        ("GET /", "100000000000000", 200),
+    ];
+    for (request, length, status) in cases {
+        for _ in 0..5 {
+            let mut s = raw_client(port);
+            let head = format!(
+                "{request} HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: {length}\r\n\r\n"
+            );
+            s.write_all(head.as_bytes()).unwrap();
+            let (answer, closed) = read_until_closed(&mut s, Duration::from_secs(5));
+            assert_eq!(status_of(&answer), Some(status), "{request} {length}");
+            // The rest of the declared body is never waited for.
+            assert!(closed, "{request} {length}: the connection stays open");
+        }
+        assert_fk_answers(port, &state.model);
+    }
+    let mut s = raw_client(port);
+    let long = "x".repeat(server::MAX_HEADER_BYTES);
+    let head = format!("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Long: {long}\r\n\r\n");
+    // The server may answer and close before the end of the head: ignore a write error.
+    let _ = s.write_all(head.as_bytes());
+    let (answer, _) = read_until_closed(&mut s, Duration::from_secs(5));
+    assert_eq!(status_of(&answer), Some(431));
+    assert_fk_answers(port, &state.model);
+    running.stop();
+}
+
+/// Issue #39, item 2: clients that send a head and stall (a partial body, a partial chunked
+/// body, a 413 left unread, a partial head), more of them than the old four workers, do not
+/// stop the page; the stalled body gets 408 and the stalled head is closed, each within its
+/// deadline.
+#[test]
+fn stalled_clients_do_not_block_the_server_and_time_out() {
+    let (running, state) = serve(&panda_args());
+    let port = running.port;
+    let stalls = [
+        "POST /api/fk HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 100\r\n\r\n{\"q\": [",
+        "POST /api/fk HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: chunked\r\n\r\n5\r\n{\"q\":\r\n",
+        "POST /api/ik HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 2000000\r\n\r\n",
+        "GET / HTTP/1.1\r\nHost: 127",
+    ];
+    let start = Instant::now();
+    let mut clients: Vec<TcpStream> = (0..2)
+        .flat_map(|_| stalls)
+        .map(|stall| {
+            let mut s = raw_client(port);
+            s.write_all(stall.as_bytes()).unwrap();
+            s
+        })
+        .collect();
+    assert_fk_answers(port, &state.model);
+    // Each stalled client is answered and closed within its deadline (with a margin).
+    let expected = [Some(408), Some(408), Some(413), None];
+    for (k, s) in clients.iter_mut().enumerate() {
+        let (answer, closed) = read_until_closed(s, Duration::from_secs(20));
+        assert_eq!(status_of(&answer), expected[k % 4], "client {k}");
+        assert!(closed, "client {k} is still open");
+    }
+    let limit = server::BODY_TIMEOUT.max(server::HEADER_TIMEOUT) + Duration::from_secs(5);
+    assert!(start.elapsed() < limit, "{:?}", start.elapsed());
+    assert_fk_answers(port, &state.model);
+    running.stop();
+}
+
+/// Issue #39, item 3: an `HTTP/2.0` request line (and HTTP/2's connection preface) is refused
+/// and closed at once, leaving nothing behind.
+#[test]
+fn other_http_versions_are_refused_and_closed_at_once() {
+    let (running, state) = serve(&panda_args());
+    let port = running.port;
+    for request in [
+        "GET / HTTP/2.0\r\nHost: 127.0.0.1\r\n\r\n",
+        "GET / HTTP/1.2\r\nHost: 127.0.0.1\r\n\r\n",
+        "PRI * HTTP/2.0\r\n\r\nSM\r\n\r\n",
+    ] {
+        for _ in 0..5 {
+            let start = Instant::now();
+            let mut s = raw_client(port);
+            s.write_all(request.as_bytes()).unwrap();
+            let (answer, closed) = read_until_closed(&mut s, Duration::from_secs(5));
+            assert!(closed, "{request:?} is left open");
+            assert!(start.elapsed() < Duration::from_secs(2), "{request:?}");
+            // hyper answers 400 where it can parse a request line at all.
+            if !request.starts_with("PRI") {
+                assert_eq!(status_of(&answer), Some(400), "{request:?}");
+            }
+        }
+    }
+    assert_fk_answers(port, &state.model);
+    running.stop();
 }
