@@ -24,6 +24,10 @@
 //! | `GET /api/workspace` | the `--workspace` PLY file |
 //! | `GET /meshes/<k>/<path>` | a mesh file under the `k`-th mesh directory |
 //!
+//! Every request must name this machine in its `Host` header (`127.0.0.1`, `localhost` or
+//! `[::1]`, or the `--bind` address; any IP address when `--bind` is `0.0.0.0` or `::`), with any
+//! port, else it gets 403: a page of another site cannot reach the API by DNS rebinding.
+//!
 //! Errors are `{"error": message}`: 400 for bad JSON, an unknown joint or frame, a wrong
 //! length or a non-finite number; 404 for an unknown path or a mesh path outside the mesh
 //! directories (`..`, absolute, or a symlink that leads out); 405 for a wrong method; 408 for

@@ -17,7 +17,9 @@
 //! - a connection serves at most [`MAX_REQUESTS_PER_CONNECTION`] requests and lives at most
 //!   [`MAX_CONNECTION_AGE`], then closes once its request under way is answered;
 //! - only HTTP/1.0 and HTTP/1.1 are spoken: hyper answers another version (`HTTP/2.0`) 400 and
-//!   closes.
+//!   closes;
+//! - a request whose `Host` is not this machine's loopback name or the `--bind` address gets
+//!   403, so that a page of another site cannot reach the API by DNS rebinding.
 
 use super::State;
 use super::api::{self, ApiError};
@@ -25,11 +27,13 @@ use super::page;
 use http_body_util::{BodyExt, Full, LengthLimitError, Limited};
 use hyper::body::{Body as _, Bytes, Incoming};
 use hyper::header::{self, HeaderValue};
+use hyper::http::request::Parts;
 use hyper::server::conn::http1;
 use hyper::{Method, Request, Response, StatusCode};
 use hyper_util::rt::{TokioIo, TokioTimer};
 use serde_json::json;
 use std::convert::Infallible;
+use std::net::{IpAddr, Ipv6Addr};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -92,10 +96,11 @@ impl Running {
     }
 }
 
-/// What every connection shares.
+/// What every connection shares: the state and the Host names answered.
 #[derive(Debug)]
 struct Site {
     state: Arc<State>,
+    hosts: Hosts,
 }
 
 /// Binds `bind:port` (port 0 for a free one) and serves `state` with `threads` threads for the
@@ -127,7 +132,10 @@ pub(crate) fn start(
         let _inside = runtime.enter();
         tokio::net::TcpListener::from_std(listener)?
     };
-    let site = Arc::new(Site { state });
+    let site = Arc::new(Site {
+        state,
+        hosts: Hosts::new(bind),
+    });
     let (stop, stopped) = oneshot::channel::<()>();
     let thread = std::thread::Builder::new()
         .name("kinetree-view".to_string())
@@ -231,6 +239,7 @@ async fn respond(
 /// Checks the Host, reads the body of an API call, then routes on a blocking thread.
 async fn answer(site: Arc<Site>, request: Request<Incoming>) -> Answer {
     let (parts, body) = request.into_parts();
+    site.hosts.check(&parts)?;
     let path = parts.uri.path().to_string();
     let body = match (&parts.method, path.as_str()) {
         (&Method::POST, "/api/fk" | "/api/ik" | "/api/collide") => read_body(body).await?,
@@ -316,6 +325,83 @@ async fn read_body(body: Incoming) -> Result<Bytes, ApiError> {
                 BODY_TIMEOUT.as_secs()
             ),
         }),
+    }
+}
+
+/// The Host names the server answers to, as Jupyter's server checks them against DNS
+/// rebinding: `127.0.0.1`, `localhost`, `[::1]` and the `--bind` address, with any port. When
+/// `--bind` is the unspecified address (`0.0.0.0` or `::`, every interface), any IP address
+/// is answered too: a name can be rebound to this machine by another site, an address cannot.
+#[derive(Debug)]
+struct Hosts {
+    /// The `--bind` address as a Host names it (lower case, IPv6 in brackets).
+    bind: String,
+    /// Whether any IP address is a valid Host.
+    any_address: bool,
+}
+
+impl Hosts {
+    fn new(bind: &str) -> Self {
+        let bind = bind.to_ascii_lowercase();
+        let any_address = bind.parse::<IpAddr>().is_ok_and(|ip| ip.is_unspecified());
+        let bind = if bind.contains(':') {
+            format!("[{bind}]")
+        } else {
+            bind
+        };
+        Self { bind, any_address }
+    }
+
+    /// 403 unless the request's `Host` (and the authority of an absolute URL) is answered.
+    fn check(&self, parts: &Parts) -> Result<(), ApiError> {
+        let host = parts
+            .headers
+            .get(header::HOST)
+            .and_then(|h| h.to_str().ok());
+        let ok = host.is_some_and(|h| self.allows(h))
+            && parts
+                .uri
+                .authority()
+                .is_none_or(|a| self.allows(a.as_str()));
+        if ok {
+            Ok(())
+        } else {
+            Err(ApiError {
+                status: 403,
+                message: format!(
+                    "this server answers requests for 127.0.0.1, localhost, [::1] and {} only, not for Host {}",
+                    self.bind,
+                    host.unwrap_or("(none)")
+                ),
+            })
+        }
+    }
+
+    /// Whether `host` (`name` or `name:port`) is answered.
+    fn allows(&self, host: &str) -> bool {
+        let host = host.to_ascii_lowercase();
+        let (name, port) = match host.strip_prefix('[') {
+            Some(rest) => match rest.split_once(']') {
+                Some((ip, port)) => (&host[..ip.len() + 2], port),
+                None => return false,
+            },
+            None => host.split_at(host.find(':').unwrap_or(host.len())),
+        };
+        let port_ok = port.is_empty()
+            || port
+                .strip_prefix(':')
+                .is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
+        let address = || {
+            name.parse::<std::net::Ipv4Addr>().is_ok()
+                || name
+                    .strip_prefix('[')
+                    .and_then(|n| n.strip_suffix(']'))
+                    .is_some_and(|n| n.parse::<Ipv6Addr>().is_ok())
+        };
+        port_ok
+            && (matches!(name, "127.0.0.1" | "localhost" | "[::1]")
+                || name == self.bind
+                || (self.any_address && address()))
     }
 }
 

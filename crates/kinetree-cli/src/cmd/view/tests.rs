@@ -767,3 +767,73 @@ fn other_http_versions_are_refused_and_closed_at_once() {
     assert_fk_answers(port, &state.model);
     running.stop();
 }
+
+/// One GET with the given `Host` header line (none when empty): the status.
+fn get_with_host(port: u16, path: &str, host_line: &str) -> u16 {
+    let mut s = raw_client(port);
+    write!(
+        s,
+        "GET {path} HTTP/1.1\r\n{host_line}Connection: close\r\n\r\n"
+    )
+    .unwrap();
+    let (answer, _) = read_until_closed(&mut s, Duration::from_secs(5));
+    status_of(&answer).unwrap_or_else(|| panic!("no answer for {host_line:?}"))
+}
+
+/// Issue #39, item 4: a page of another site that rebinds its name to 127.0.0.1 sends its own
+/// name as `Host`, and gets 403 from every path; this machine's names (any port) and the
+/// `--bind` address are answered.
+#[test]
+fn requests_for_another_host_are_refused() {
+    let (running, state) = serve(&panda_args());
+    let port = running.port;
+    for host in [
+        "Host: evil.example\r\n",
+        &format!("Host: evil.example:{port}\r\n"),
+        "Host: localhost.evil.example\r\n",
+        "Host: 127.0.0.1.nip.io\r\n",
+        "Host: 127.0.0.2\r\n",
+        "Host: 127.0.0.1:x\r\n",
+        "Host: [::1\r\n",
+        "",
+    ] {
+        for path in ["/", "/api/model", "/meshes/0/x.stl"] {
+            assert_eq!(get_with_host(port, path, host), 403, "{host:?} {path}");
+        }
+    }
+    // An absolute URL naming another site is refused too, whatever the Host says.
+    let mut s = raw_client(port);
+    s.write_all(b"GET http://evil.example/api/model HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n")
+        .unwrap();
+    let (answer, _) = read_until_closed(&mut s, Duration::from_secs(5));
+    assert_eq!(status_of(&answer), Some(403));
+    let (status, body) = http(port, "POST", "/api/fk", b"{}");
+    assert_eq!(status, 200, "{}", String::from_utf8_lossy(&body));
+    for host in [
+        "Host: 127.0.0.1\r\n".to_string(),
+        format!("Host: 127.0.0.1:{port}\r\n"),
+        format!("Host: LOCALHOST:{port}\r\n"),
+        "Host: localhost\r\n".to_string(),
+        "Host: [::1]:8080\r\n".to_string(),
+    ] {
+        assert_eq!(get_with_host(port, "/api/model", &host), 200, "{host:?}");
+    }
+    running.stop();
+    // `--bind 0.0.0.0` answers any address (to reach it from another machine) but no name
+    // other than localhost.
+    let any = server::start(Arc::clone(&state), "0.0.0.0", 0, 1).unwrap();
+    for (host, status) in [
+        ("Host: 192.168.1.20:8000\r\n", 200),
+        ("Host: [fe80::1]\r\n", 200),
+        ("Host: 0.0.0.0\r\n", 200),
+        ("Host: localhost\r\n", 200),
+        ("Host: evil.example\r\n", 403),
+    ] {
+        assert_eq!(
+            get_with_host(any.port, "/api/model", host),
+            status,
+            "{host:?}"
+        );
+    }
+    any.stop();
+}
