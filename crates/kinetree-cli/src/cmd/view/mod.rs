@@ -22,17 +22,18 @@
 //! | `POST /api/collide` `{"q"}` | `{"available", "pairs": [{"link_a", "link_b", "distance", "colliding"}]}` (signed distances in metres) |
 //! | `GET /api/trajectory` | `{"t": [s], "q": [[nq]], "links": [[pose per link]]}` or `null` |
 //! | `GET /api/workspace` | the `--workspace` PLY file |
-//! | `GET /meshes/<k>/<path>` | a mesh file under the `k`-th mesh directory |
+//! | `GET /meshes/<k>/<path>` | a mesh file the model references, found under the `k`-th mesh directory (the URLs of `/api/model`) |
 //!
 //! Every request must name this machine in its `Host` header (`127.0.0.1`, `localhost` or
 //! `[::1]`, or the `--bind` address; any IP address when `--bind` is `0.0.0.0` or `::`), with any
 //! port, else it gets 403: a page of another site cannot reach the API by DNS rebinding.
 //!
 //! Errors are `{"error": message}`: 400 for bad JSON, an unknown joint or frame, a wrong
-//! length or a non-finite number; 404 for an unknown path or a mesh path outside the mesh
-//! directories (`..`, absolute, or a symlink that leads out); 405 for a wrong method; 408 for
-//! a body that does not arrive within 10 s; 413 for a body over 1 MiB; 431 for a request head
-//! over 16 KiB. The server keeps serving after any of them.
+//! length or a non-finite number; 403 for another `Host`; 404 for an unknown
+//! path or any file but the model's meshes (other files of its directory, `..`, absolute paths,
+//! symlinks); 405 for a wrong method; 408 for a body that does not arrive within 10 s; 413 for
+//! a body over 1 MiB; 431 for a request head over 16 KiB. The server keeps serving after any of
+//! them.
 //!
 //! # Trajectories
 //!
@@ -105,9 +106,7 @@ pub(crate) struct State {
     model_json: Value,
     /// The collision model, or why there is none.
     collision: Result<CollisionModel, String>,
-    /// Canonical mesh directories, indexed by the `k` of `/meshes/<k>/…`.
-    mesh_dirs: Vec<PathBuf>,
-    /// Mesh URL → file, for the export.
+    /// Mesh URL → file: the only files served, and the meshes of the export.
     mesh_files: HashMap<String, PathBuf>,
     /// `/api/trajectory`'s answer.
     trajectory: Value,
@@ -193,7 +192,6 @@ impl State {
             model,
             model_json,
             collision,
-            mesh_dirs,
             mesh_files,
             trajectory,
             workspace,

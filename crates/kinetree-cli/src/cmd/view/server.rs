@@ -32,6 +32,7 @@ use hyper::server::conn::http1;
 use hyper::{Method, Request, Response, StatusCode};
 use hyper_util::rt::{TokioIo, TokioTimer};
 use serde_json::json;
+use std::collections::HashMap;
 use std::convert::Infallible;
 use std::net::{IpAddr, Ipv6Addr};
 use std::path::{Component, Path, PathBuf};
@@ -282,9 +283,7 @@ fn route(state: &State, method: &Method, path: &str, body: &[u8]) -> Answer {
             state.collision.as_ref().map_err(String::as_str),
             body,
         )),
-        (&Method::GET, p) if p.starts_with("/meshes/") => {
-            mesh(&state.mesh_dirs, &p["/meshes/".len()..])
-        }
+        (&Method::GET, p) if p.starts_with("/meshes/") => mesh(&state.mesh_files, p),
         (_, "/api/fk" | "/api/ik" | "/api/collide") => Err(ApiError {
             status: 405,
             message: format!("{path} takes POST"),
@@ -405,28 +404,19 @@ impl Hosts {
     }
 }
 
-/// `GET /meshes/<k>/<path>`: the file `<path>` under the `k`-th mesh directory, only if it is
-/// inside it once symlinks are resolved. Anything else (`..`, absolute paths, a symlink that
-/// leads out, a missing file) is 404.
-fn mesh(dirs: &[PathBuf], rest: &str) -> Answer {
-    let missing = || not_found(&format!("no such mesh: /meshes/{rest}"));
-    let (k, rel) = rest.split_once('/').ok_or_else(missing)?;
-    let dir = k
-        .parse::<usize>()
-        .ok()
-        .and_then(|k| dirs.get(k))
+/// `GET /meshes/<k>/<path>`: one of the mesh files the model references (`files`, URL → file,
+/// made once at start), whatever percent-encoding the URL uses. Anything else is 404.
+fn mesh(files: &HashMap<String, PathBuf>, path: &str) -> Answer {
+    let missing = || not_found(&format!("no such mesh: {path}"));
+    let segments: Option<Vec<String>> = path
+        .split('/')
+        .map(|s| percent_decode(s).map(|s| percent_encode(&s)))
+        .collect();
+    let file = files
+        .get(&segments.ok_or_else(missing)?.join("/"))
         .ok_or_else(missing)?;
-    let rel = percent_decode(rel).ok_or_else(missing)?;
-    let rel = Path::new(&rel);
-    if rel.components().any(|c| !matches!(c, Component::Normal(_))) {
-        return Err(missing());
-    }
-    let path = dir.join(rel).canonicalize().map_err(|_| missing())?;
-    if !path.starts_with(dir) || !path.is_file() {
-        return Err(missing());
-    }
-    let bytes = std::fs::read(&path).map_err(|_| missing())?;
-    Ok((bytes, page::content_type(&path)))
+    let bytes = std::fs::read(file).map_err(|_| missing())?;
+    Ok((bytes, page::content_type(file)))
 }
 
 /// The URL path of `file` (absolute, canonical) under one of `dirs` (canonical), if any.

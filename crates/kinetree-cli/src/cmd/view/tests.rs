@@ -325,9 +325,9 @@ fn bad_requests_get_their_status_and_the_server_keeps_serving() {
         let (ok, _) = http(port, "GET", "/api/model", b"");
         assert_eq!(ok, 200, "after {method} {path}");
     }
-    // The model directory (index 0, before the --mesh-path) serves its own files.
-    let (ok, _) = http(port, "GET", "/meshes/0/panda.urdf", b"");
-    assert_eq!(ok, 200);
+    // The model file itself is not a mesh: the model's directory is not served.
+    let (status, _) = http(port, "GET", "/meshes/0/panda.urdf", b"");
+    assert_eq!(status, 404);
     running.stop();
     std::fs::remove_dir_all(&dir).unwrap();
     std::fs::remove_file(&outside).unwrap();
@@ -836,4 +836,61 @@ fn requests_for_another_host_are_refused() {
         );
     }
     any.stop();
+}
+
+/// Issue #39, item 5: the server serves exactly the mesh files the model references (however
+/// their URL is percent-encoded), and nothing else of the directories they are in.
+#[test]
+fn only_the_meshes_the_model_references_are_served() {
+    let root = std::env::temp_dir().join(format!("kinetree-view-only-{}", std::process::id()));
+    std::fs::create_dir_all(root.join("meshes")).unwrap();
+    let cube = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(root.join("meshes/cube.obj"), cube).unwrap();
+    std::fs::write(root.join("meshes/other.obj"), cube).unwrap();
+    std::fs::write(root.join("meshes/notes.txt"), "secret").unwrap();
+    let urdf = root.join("robot.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="cube"><link name="a"><visual><geometry><mesh filename="meshes/cube.obj"/></geometry></visual></link></robot>"#,
+    )
+    .unwrap();
+    let (running, _) = serve(&Args {
+        model: urdf,
+        no_open: true,
+        ..Args::default()
+    });
+    let port = running.port;
+    let (status, bytes) = http(port, "GET", "/api/model", b"");
+    assert_eq!(status, 200);
+    let model: Value = serde_json::from_slice(&bytes).unwrap();
+    let url = model["links"][0]["visuals"][0]["geometry"]["url"]
+        .as_str()
+        .unwrap();
+    assert_eq!(url, "/meshes/0/meshes/cube.obj");
+    for path in [
+        url,
+        "/meshes/0/meshes/cub%65.obj",
+        "/meshes/0/%6Deshes/cube.obj",
+    ] {
+        let (status, bytes) = http(port, "GET", path, b"");
+        assert_eq!(status, 200, "{path}");
+        assert_eq!(bytes, cube.as_bytes(), "{path}");
+    }
+    for path in [
+        "/meshes/0/meshes/other.obj",
+        "/meshes/0/meshes/notes.txt",
+        "/meshes/0/robot.urdf",
+        "/meshes/0/meshes/../robot.urdf",
+        "/meshes/0/meshes%2Fcube.obj",
+        "/meshes/1/meshes/cube.obj",
+        "/meshes/0/meshes/cube.obj/",
+        "/meshes/0/meshes/%ZZ",
+    ] {
+        let (status, bytes) = http(port, "GET", path, b"");
+        let text = String::from_utf8_lossy(&bytes);
+        assert_eq!(status, 404, "{path}: {text}");
+        assert!(text.contains("no such mesh"), "{path}: {text}");
+    }
+    running.stop();
+    std::fs::remove_dir_all(&root).unwrap();
 }
