@@ -29,11 +29,11 @@
 //! port, else it gets 403: a page of another site cannot reach the API by DNS rebinding.
 //!
 //! Errors are `{"error": message}`: 400 for bad JSON, an unknown joint or frame, a wrong
-//! length or a non-finite number; 403 for another `Host`; 404 for an unknown
-//! path or any file but the model's meshes (other files of its directory, `..`, absolute paths,
-//! symlinks); 405 for a wrong method; 408 for a body that does not arrive within 10 s; 413 for
-//! a body over 1 MiB; 431 for a request head over 16 KiB. The server keeps serving after any of
-//! them.
+//! length or a configuration the library refuses (as `kinetree compute` does); 403 for another
+//! `Host`; 404 for an unknown path or any file but the model's meshes (other files of its
+//! directory, `..`, absolute paths, symlinks); 405 for a wrong method; 408 for a body that does
+//! not arrive within 10 s; 413 for a body over 1 MiB; 431 for a request head over 16 KiB. The
+//! server keeps serving after any of them.
 //!
 //! # Trajectories
 //!

@@ -894,3 +894,107 @@ fn only_the_meshes_the_model_references_are_served() {
     running.stop();
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// Issue #39, item 6: link and joint names are escaped for the export's inline script, so a
+/// name like `<!--<script>` or `</script><script>…` cannot change how the page is parsed.
+#[test]
+fn the_export_escapes_names_for_the_script_element() {
+    let root = std::env::temp_dir().join(format!("kinetree-view-escape-{}", std::process::id()));
+    std::fs::create_dir_all(&root).unwrap();
+    let names = [
+        "<!--<script>",
+        "</script><script>alert(1)</script>",
+        "a&b\u{2028}c\u{2029}d",
+    ];
+    let urdf_of = |names: [&str; 3]| {
+        let escape = |n: &str| {
+            n.replace('&', "&amp;")
+                .replace('<', "&lt;")
+                .replace('>', "&gt;")
+        };
+        let [a, b, c] = names.map(escape);
+        format!(
+            r#"<robot name="{a}"><link name="{a}"/><link name="{b}"/>
+            <joint name="{c}" type="revolute"><parent link="{a}"/><child link="{b}"/>
+            <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#
+        )
+    };
+    let export = |file: &str, names: [&str; 3]| {
+        let urdf = root.join(file);
+        std::fs::write(&urdf, urdf_of(names)).unwrap();
+        let state = State::new(&Args {
+            model: urdf,
+            ..panda_args()
+        })
+        .unwrap();
+        super::page::export_html(&state).unwrap()
+    };
+    let hostile = export("hostile.urdf", names);
+    let plain = export("plain.urdf", ["a", "b", "c"]);
+    // The hostile names add no tag, comment or script to the page.
+    for pattern in ["<script", "</script", "<!--"] {
+        assert_eq!(
+            hostile.matches(pattern).count(),
+            plain.matches(pattern).count(),
+            "{pattern}"
+        );
+    }
+    let start = "window.KINETREE_EMBED = ";
+    let embed = &hostile[hostile.find(start).unwrap() + start.len()..];
+    let embed = &embed[..embed.find(";</script>").unwrap()];
+    for c in ['<', '>', '&', '\u{2028}', '\u{2029}'] {
+        assert!(!embed.contains(c), "{c:?} in the inline script");
+    }
+    // The names are still the same JSON strings.
+    let value: Value = serde_json::from_str(embed).unwrap();
+    let links = value["model"]["links"].as_array().unwrap();
+    assert_eq!(links[0]["name"], names[0]);
+    assert_eq!(links[1]["name"], names[1]);
+    assert_eq!(value["model"]["joints"][0]["name"], names[2]);
+    std::fs::remove_dir_all(&root).unwrap();
+}
+
+/// Issue #39, item 6: the API refuses a configuration as `kinetree compute` does (the library's
+/// checks), rather than answering for fingers at 1e308 m or a quaternion of norm 2, then keeps
+/// serving.
+#[test]
+fn the_api_refuses_states_the_library_refuses() {
+    let (running, state) = serve(&panda_args());
+    let port = running.port;
+    let far = json!({"panda_finger_joint1": 1e308});
+    for (path, body) in [
+        ("/api/fk", json!({ "q": far })),
+        ("/api/collide", json!({ "q": far })),
+        (
+            "/api/ik",
+            json!({"q": far, "frame": "panda_hand", "target": {"xyz": [0.3, 0, 0.5]}}),
+        ),
+    ] {
+        let (status, answer) = post_json(port, path, &body);
+        assert_eq!(status, 400, "{path}: {answer}");
+        let message = answer["error"].as_str().unwrap();
+        assert!(message.contains("overflowed"), "{path}: {message}");
+    }
+    // Far, but not past what the library computes: answered.
+    let (status, answer) = post_json(
+        port,
+        "/api/fk",
+        &json!({"q": {"panda_finger_joint1": 10.0}}),
+    );
+    assert_eq!(status, 200, "{answer}");
+    assert_fk_answers(port, &state.model);
+    running.stop();
+    // A floating base's quaternion must have norm 1, as for every library call.
+    let (running, state) = serve(&Args {
+        floating: true,
+        ..panda_args()
+    });
+    let mut q = kinetree::kinematics::configuration::neutral_configuration(&state.model);
+    q[6] = 2.0;
+    let (status, answer) = post_json(running.port, "/api/fk", &json!({ "q": q }));
+    assert_eq!(status, 400, "{answer}");
+    let message = answer["error"].as_str().unwrap();
+    assert!(message.contains("norm 2"), "{message}");
+    assert_fk_answers(running.port, &state.model);
+    running.stop();
+}
