@@ -3,9 +3,14 @@
 //! message naming what is wrong; nothing here panics on any body.
 
 use kinetree::collision::{CollisionData, CollisionModel, compute_distances};
-use kinetree::kinematics::configuration::{neutral_configuration, set_joint_q};
+use kinetree::dynamics::{DynamicsData, DynamicsError, compute_all_terms};
+use kinetree::kinematics::configuration::{
+    check_configuration, neutral_configuration, set_joint_q,
+};
 use kinetree::kinematics::ik::{IkParams, IkSolver, IkStatus, IkTarget};
-use kinetree::kinematics::{FrameId, KinematicsData, forward_kinematics, update_frame_placements};
+use kinetree::kinematics::{
+    FrameId, KinematicsData, compute_joint_jacobians, forward_kinematics, update_frame_placements,
+};
 use kinetree::model::{Geometry, JointKind, Model};
 use kinetree::spatial::{DQuat, DVec3, Se3};
 use serde_json::{Map, Value, json};
@@ -108,6 +113,28 @@ pub(crate) fn parse_q(model: &Model, body: &Map<String, Value>) -> Result<Vec<f6
         }
     }
     Ok(q)
+}
+
+/// The configuration of a request ([`parse_q`]), refused as `kinetree compute` refuses it: the
+/// library's check of a configuration (length, finite numbers, unit quaternions), then what
+/// `compute` evaluates for a state given only by `q` (the Jacobians, and the dynamics terms at
+/// zero velocity, acceleration and torque) must not overflow. A state so far out that they do
+/// (a finger at 1e308 m) is refused with the library's message rather than drawn.
+///
+/// # Errors
+/// 400 as [`parse_q`], or naming the check that fails.
+fn checked_q(model: &Model, body: &Map<String, Value>) -> Result<Vec<f64>, ApiError> {
+    let q = parse_q(model, body)?;
+    let refused = |e: &dyn std::fmt::Display| ApiError::bad(format!("q: {e}"));
+    check_configuration(model, &q).map_err(|e| refused(&e))?;
+    compute_joint_jacobians(model, &mut KinematicsData::new(model), &q).map_err(|e| refused(&e))?;
+    let zeros = vec![0.0; model.nv()];
+    let mut data = DynamicsData::new(model);
+    match compute_all_terms(model, &mut data, &q, &zeros, &zeros, &zeros) {
+        // A model the dynamics do not support yet is still drawn.
+        Ok(_) | Err(DynamicsError::CoupledMimic { .. }) => Ok(q),
+        Err(e) => Err(refused(&e)),
+    }
 }
 
 /// The geometry of a visual or collision element, with `url` for a mesh (`None` when the file
@@ -226,10 +253,10 @@ pub(crate) fn poses_json(
 /// `POST /api/fk` with `{"q": …}`: [`poses_json`].
 ///
 /// # Errors
-/// 400 for a bad body or configuration.
+/// 400 for a bad body or a configuration [`checked_q`] refuses.
 pub(crate) fn fk(model: &Model, body: &[u8]) -> Result<Value, ApiError> {
     let body = parse_body(body)?;
-    let q = parse_q(model, &body)?;
+    let q = checked_q(model, &body)?;
     poses_json(model, &mut KinematicsData::new(model), &q)
 }
 
@@ -241,7 +268,7 @@ pub(crate) fn fk(model: &Model, body: &[u8]) -> Result<Value, ApiError> {
 /// 400 for a bad body, an unknown frame or a zero quaternion.
 pub(crate) fn ik(model: &Model, body: &[u8]) -> Result<Value, ApiError> {
     let body = parse_body(body)?;
-    let q0 = parse_q(model, &body)?;
+    let q0 = checked_q(model, &body)?;
     let frame_name = body
         .get("frame")
         .and_then(Value::as_str)
@@ -302,7 +329,7 @@ pub(crate) fn collide(
     body: &[u8],
 ) -> Result<Value, ApiError> {
     let body = parse_body(body)?;
-    let q = parse_q(model, &body)?;
+    let q = checked_q(model, &body)?;
     let cmodel = match cmodel {
         Ok(c) => c,
         Err(reason) => return Ok(json!({"available": false, "reason": reason, "pairs": []})),

@@ -1,6 +1,7 @@
 //! `kinetree view <model>`: a 3D viewer in the browser, served from the command line.
 //!
-//! The command starts an HTTP/1.1 server (tiny_http, four worker threads) bound to 127.0.0.1
+//! The command starts an HTTP/1.1 server (hyper on a tokio current-thread runtime, four threads
+//! for the computations; `server.rs` lists its limits and deadlines) bound to 127.0.0.1
 //! (another address only with `--bind`, which prints a warning) on a free port (or `--port`),
 //! prints the URL and opens the default browser unless `--no-open`. The page is three.js
 //! (vendored from the npm package `three` with its licence, compiled into the binary) and
@@ -21,12 +22,18 @@
 //! | `POST /api/collide` `{"q"}` | `{"available", "pairs": [{"link_a", "link_b", "distance", "colliding"}]}` (signed distances in metres) |
 //! | `GET /api/trajectory` | `{"t": [s], "q": [[nq]], "links": [[pose per link]]}` or `null` |
 //! | `GET /api/workspace` | the `--workspace` PLY file |
-//! | `GET /meshes/<k>/<path>` | a mesh file under the `k`-th mesh directory |
+//! | `GET /meshes/<k>/<path>` | a mesh file the model references, found under the `k`-th mesh directory (the URLs of `/api/model`) |
+//!
+//! Every request must name this machine in its `Host` header (`127.0.0.1`, `localhost` or
+//! `[::1]`, or the `--bind` address; any IP address when `--bind` is `0.0.0.0` or `::`), with any
+//! port, else it gets 403: a page of another site cannot reach the API by DNS rebinding.
 //!
 //! Errors are `{"error": message}`: 400 for bad JSON, an unknown joint or frame, a wrong
-//! length or a non-finite number; 404 for an unknown path or a mesh path outside the mesh
-//! directories (`..`, absolute, or a symlink that leads out); 405 for a wrong method; 413 for
-//! a body over 1 MiB. The server keeps serving after any of them.
+//! length or a configuration the library refuses (as `kinetree compute` does); 403 for another
+//! `Host`; 404 for an unknown path or any file but the model's meshes (other files of its
+//! directory, `..`, absolute paths, symlinks); 405 for a wrong method; 408 for a body that does
+//! not arrive within 10 s; 413 for a body over 1 MiB; 431 for a request head over 16 KiB. The
+//! server keeps serving after any of them.
 //!
 //! # Trajectories
 //!
@@ -99,9 +106,7 @@ pub(crate) struct State {
     model_json: Value,
     /// The collision model, or why there is none.
     collision: Result<CollisionModel, String>,
-    /// Canonical mesh directories, indexed by the `k` of `/meshes/<k>/…`.
-    mesh_dirs: Vec<PathBuf>,
-    /// Mesh URL → file, for the export.
+    /// Mesh URL → file: the only files served, and the meshes of the export.
     mesh_files: HashMap<String, PathBuf>,
     /// `/api/trajectory`'s answer.
     trajectory: Value,
@@ -187,7 +192,6 @@ impl State {
             model,
             model_json,
             collision,
-            mesh_dirs,
             mesh_files,
             trajectory,
             workspace,
@@ -264,12 +268,7 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             args.bind
         );
     }
-    let addr = if args.bind.contains(':') {
-        format!("[{}]:{}", args.bind, args.port)
-    } else {
-        format!("{}:{}", args.bind, args.port)
-    };
-    let running = server::start(Arc::new(state), &addr, 4)?;
+    let running = server::start(Arc::new(state), &args.bind, args.port, 4)?;
     let host = if args.bind.contains(':') {
         format!("[{}]", args.bind)
     } else {

@@ -75,14 +75,34 @@ pub(crate) fn export_html(state: &State) -> Result<String> {
         "trajectory": state.trajectory,
         "workspace": state.workspace.as_deref().map(base64),
     });
-    // `</` cannot appear inside a script element; JSON allows `<\/`.
-    let embed = embed.to_string().replace("</", "<\\/");
+    let embed = script_json(&embed);
     let three = String::from_utf8_lossy(THREE_JS);
     let viewer = String::from_utf8_lossy(VIEWER_JS);
     let scripts = format!(
         "<script>{three}</script>\n<script>window.KINETREE_EMBED = {embed};</script>\n<script>{viewer}</script>"
     );
     Ok(index_html(Some(&scripts)))
+}
+
+/// `value` as JSON text that is safe inside an HTML `<script>` element, whatever its strings
+/// hold (link and joint names come from the model file): `<`, `>` and `&` (a `</script>` would
+/// close the element, and a `<!--<script>` would make the parser swallow the next one) and
+/// U+2028 and U+2029 (line ends to older JavaScript) are written as `\u` escapes. JSON has none
+/// of these characters outside strings, so the text is still the same JSON.
+pub(crate) fn script_json(value: &serde_json::Value) -> String {
+    let text = value.to_string();
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '<' => out.push_str("\\u003c"),
+            '>' => out.push_str("\\u003e"),
+            '&' => out.push_str("\\u0026"),
+            '\u{2028}' => out.push_str("\\u2028"),
+            '\u{2029}' => out.push_str("\\u2029"),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 /// Standard base64 with padding.
