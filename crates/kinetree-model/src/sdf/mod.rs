@@ -25,7 +25,8 @@
 //!   `<parent>` may be `world`; `<axis><xyz expressed_in=…>`, `<limit>` (bounds at ±1e16 are
 //!   infinite; `effort`/`velocity` of −1 are unlimited) and `<dynamics>` damping and friction
 //!   (kept as [`JointDynamics`](crate::JointDynamics), off in the dynamics by default, as for
-//!   URDF). `screw` and `gearbox` joints are refused with an error naming them: kinetree has no
+//!   URDF), and SDFormat 1.11's `<mimic>` as a [`Mimic`](crate::Mimic) (its `reference`
+//!   folded into the offset; independent by default, as URDF mimics). `screw` and `gearbox` joints are refused with an error naming them: kinetree has no
 //!   joint coupling a translation to a rotation, and approximating one would be wrong.
 //! - `<frame>`s as named frames of the link they are attached to.
 //! - `<static>` models: every link welded to the world where the file puts it.

@@ -203,6 +203,9 @@ struct AxisData<'a> {
     model_frame: bool,
     limits: JointLimits,
     dynamics: JointDynamics,
+    /// `<mimic joint=…>` (SDFormat 1.11): the leader as written, the multiplier, and the offset
+    /// with the reference folded in (`q = multiplier · q_leader + offset`).
+    mimic: Option<(String, f64, f64, &'a Element)>,
 }
 
 struct JointData<'a> {
@@ -589,6 +592,7 @@ impl<'a> Reader<'a> {
             model_frame: self.version(a) < (1, 5),
             limits: JointLimits::UNLIMITED,
             dynamics: JointDynamics::default(),
+            mimic: None,
         };
         let (mut lower, mut upper) = (-UNBOUNDED, UNBOUNDED);
         for c in &a.children {
@@ -633,6 +637,21 @@ impl<'a> Reader<'a> {
                             "joint axis spring_stiffness {k} (springs are not modelled)"
                         ));
                     }
+                }
+                "mimic" => {
+                    let Some(leader) = c.attr("joint").filter(|j| !j.trim().is_empty()) else {
+                        return fail(c, "<mimic> needs a joint attribute");
+                    };
+                    let multiplier = number(c, "multiplier", 1.0)?;
+                    let offset = number(c, "offset", 0.0)?;
+                    let reference = number(c, "reference", 0.0)?;
+                    // SDFormat: q = offset + multiplier · (q_leader − reference).
+                    axis.mimic = Some((
+                        leader.trim().to_string(),
+                        multiplier,
+                        offset - multiplier * reference,
+                        c,
+                    ));
                 }
                 "initial_position" => self.ignore("axis/initial_position"),
                 other => self.ignore(format!("axis/{other} (unknown element)")),
@@ -1140,6 +1159,14 @@ impl<'a> Reader<'a> {
             );
         if let Some(a) = first.filter(|_| kind.is_moving()) {
             spec = spec.with_dynamics(a.dynamics);
+            if let Some((leader, multiplier, offset, e)) = &a.mimic {
+                let scope = g.nodes[j.node].scope;
+                let n = g.lookup_or_fail(scope, leader, e)?;
+                if g.nodes[n].kind != Kind::Joint {
+                    return fail(e, format!("mimic joint '{leader}' is not a joint"));
+                }
+                spec = spec.with_mimic(kname(g, n), *multiplier, *offset);
+            }
         }
         b.add_joint(spec);
         Ok(())

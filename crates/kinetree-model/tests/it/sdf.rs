@@ -588,3 +588,36 @@ fn from_file_recognises_sdformat_by_its_root() {
     let fixed = Model::from_file(&path, RootJoint::Fixed).unwrap();
     assert_eq!(fixed.nq(), 0);
 }
+
+#[test]
+fn mimic_joints_follow_their_leader() {
+    // SDFormat: q = offset + multiplier · (q_leader − reference) = 2 q_leader + (0.1 − 2·0.3).
+    let m = load(&model(
+        r#"<link name="a"/><link name="b"/><link name="c"/>
+        <joint name="lead" type="prismatic"><parent>a</parent><child>b</child><axis><xyz>1 0 0</xyz></axis></joint>
+        <joint name="follow" type="prismatic"><parent>a</parent><child>c</child><axis><xyz>0 1 0</xyz>
+          <mimic joint="lead"><multiplier>2</multiplier><offset>0.1</offset><reference>0.3</reference></mimic>
+        </axis></joint>"#,
+    ));
+    let mimic = joint(&m, "follow").mimic.clone().unwrap();
+    assert_eq!(mimic.joint, "lead");
+    assert_eq!(mimic.multiplier, 2.0);
+    assert!((mimic.offset - (0.1 - 0.6)).abs() < 1e-15);
+}
+
+#[test]
+fn frames_of_merged_links_are_named_frames_of_their_host() {
+    // libsdformat ≥ 12.7 keeps a lumped link as `<frame name="J" attached_to="PARENT">` (its
+    // fixed joint) and `<frame name="LINK" attached_to="J">`.
+    let m = load(&model(
+        r#"<link name="arm"/>
+        <frame name="tool_joint" attached_to="arm"><pose>0 0 0.1 0 0 1.5707963267948966</pose></frame>
+        <frame name="tool" attached_to="tool_joint"/>"#,
+    ));
+    let tool = &m.frames()[m.frame_index("tool").unwrap()];
+    assert_eq!(m.link(tool.link).name, "arm");
+    assert!(close(
+        &tool.placement,
+        &Se3::from_xyz_rpy([0.0, 0.0, 0.1], [0.0, 0.0, FRAC_PI_2])
+    ));
+}
