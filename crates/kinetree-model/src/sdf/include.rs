@@ -251,7 +251,11 @@ fn load_include(
         set_attr(&mut model, "placement_frame", pf.text.trim());
     }
     stack.push(key);
-    expand(&mut model, files, options, stack, depth + 1)?;
+    if let Err(e) = expand(&mut model, files, options, stack, depth + 1) {
+        // A tree spliced from many includes can be deep: drop it without recursion.
+        xml_tree::drop_flat(model);
+        return Err(e);
+    }
     stack.pop();
     Ok(model)
 }
