@@ -200,29 +200,23 @@ pub(crate) fn parse(text: &str, file: usize) -> Result<Element, XmlError> {
             }
             Event::GeneralRef(r) => {
                 if let Some(top) = stack.last_mut() {
-                    let c = match r.resolve_char_ref() {
-                        Ok(Some(c)) => c,
-                        Ok(None) => match r.decode().as_deref() {
-                            Ok("lt") => '<',
-                            Ok("gt") => '>',
-                            Ok("amp") => '&',
-                            Ok("apos") => '\'',
-                            Ok("quot") => '"',
+                    match r.resolve_char_ref().ok().flatten() {
+                        Some(c) => top.text.push(c),
+                        None => match r.decode().as_deref() {
+                            Ok("lt") => top.text.push('<'),
+                            Ok("gt") => top.text.push('>'),
+                            Ok("amp") => top.text.push('&'),
+                            Ok("apos") => top.text.push('\''),
+                            Ok("quot") => top.text.push('"'),
+                            // An entity of a DTD, or an invalid character reference: kept as
+                            // written (the readers find it is not a number or a name).
                             _ => {
-                                let (line, column) = line_column(text, offset);
-                                return Err(XmlError {
-                                    line,
-                                    column,
-                                    message: format!(
-                                        "unknown entity '&{};'",
-                                        String::from_utf8_lossy(&r)
-                                    ),
-                                });
+                                top.text.push('&');
+                                top.text.push_str(&String::from_utf8_lossy(&r));
+                                top.text.push(';');
                             }
                         },
-                        Err(e) => return Err(encoding(text, offset, &e)),
-                    };
-                    top.text.push(c);
+                    }
                 }
             }
             Event::Eof => break,
@@ -287,6 +281,8 @@ mod tests {
         let root = parse("<a> 1 &lt; 2<![CDATA[ & 3]]>&#x41;<b>x</b></a>", 0).unwrap();
         assert_eq!(root.text, " 1 < 2 & 3A");
         assert_eq!(root.children[0].text, "x");
+        let root = parse("<a>&nbsp;&#xFFFFFFFF;</a>", 0).unwrap();
+        assert_eq!(root.text, "&nbsp;&#xFFFFFFFF;");
         assert_eq!(
             root_name("<?xml version='1.0'?><!-- x --><mujoco/>").as_deref(),
             Some("mujoco")
