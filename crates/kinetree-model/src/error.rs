@@ -61,6 +61,21 @@ pub enum ModelError {
         /// What is wrong.
         message: String,
     },
+    /// The XML is well formed but is not an SDFormat model kinetree can load: malformed values,
+    /// unknown names in `relative_to`/`attached_to`/`<parent>`/`<child>`, pose-graph or joint
+    /// cycles, `<include>` loops, missing included files or meshes, absurd numbers, joint types
+    /// kinetree cannot express (screw, gearbox).
+    #[error("invalid SDFormat{}: <{element}>: {message}", location(.file.as_deref(), *.line, 0))]
+    Sdf {
+        /// The file holding the element (an included file when it came from one).
+        file: Option<PathBuf>,
+        /// 1-based line of the element's start tag.
+        line: usize,
+        /// The element's name.
+        element: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The JSON is malformed or does not follow the schema (unknown fields included).
     #[error("invalid JSON{}: {message}", location(.file.as_deref(), *.line, *.column))]
     Json {

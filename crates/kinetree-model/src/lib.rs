@@ -16,7 +16,11 @@
 //!   inertia from geoms, several joints per body), with the conversions between MuJoCo's
 //!   `qpos`/`qvel`/`qacc`/`qfrc` and kinetree's vectors: [`Model::from_mjcf_file`],
 //!   [`Model::from_mjcf_str`] — see [`mjcf`];
-//! - any of these, by extension and content (`<robot>`, `<mujoco>`, JSON): [`Model::from_file`];
+//! - SDFormat (Gazebo's and Drake's XML), with 1.7+ frame semantics, nested models and
+//!   `<include>`s, worlds of several models, free bodies on floating joints:
+//!   [`Model::from_sdf_file`], [`Model::from_sdf_str`] — see [`sdf`];
+//! - any of these, by extension and content (`<robot>`, `<mujoco>`, `<sdf>`, JSON):
+//!   [`Model::from_file`];
 //! - Denavit–Hartenberg tables, standard or modified: [`Model::from_dh`] (see [`dh`]);
 //! - code: [`ModelBuilder`], and the ready-made models of [`samples`].
 //!
@@ -67,6 +71,9 @@
 //!   `mjcf/inertia.rs`: masses inferred from geoms; `mjcf/orient.rs`: orientation forms) and the
 //!   MuJoCo coordinate conversions (`mjcf/mod.rs`); `xml_tree`: the owned, depth-limited XML tree
 //!   it reads.
+//! - [`sdf`]: SDFormat import (`sdf/read.rs`: models, links, joints and the tree;
+//!   `sdf/graph.rs`: the frame graph of poses, `relative_to` and `attached_to`;
+//!   `sdf/include.rs`: `<include>`s and the model search path).
 //! - [`json`]: kinetree's JSON schema (`json/schema.rs`), import (`json/read.rs`) and export
 //!   (`json/write.rs`); [`units`]: the length and angle units of model files.
 //! - [`dh`]: Denavit–Hartenberg tables; [`dh_json`]: DH tables as JSON files; [`samples`]:
@@ -94,6 +101,7 @@ pub mod mesh;
 pub mod mjcf;
 mod model;
 pub mod samples;
+pub mod sdf;
 pub mod state;
 mod topology;
 pub mod units;

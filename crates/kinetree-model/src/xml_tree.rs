@@ -1,5 +1,6 @@
-//! A small owned XML element tree for the readers that interpret whole documents (MJCF), built
-//! with quick-xml without recursion, with a nesting limit and the line of every element.
+//! A small owned XML element tree for the readers that interpret whole documents (MJCF,
+//! SDFormat), built with quick-xml without recursion, with a nesting limit and the line of every
+//! element.
 
 use quick_xml::events::{BytesStart, Event};
 
@@ -8,13 +9,17 @@ use quick_xml::events::{BytesStart, Event};
 /// the tree.
 pub(crate) const MAX_XML_DEPTH: usize = 500;
 
-/// One XML element: its name, attributes in document order, child elements and the 1-based line
-/// of its start tag. Text content is not kept (the formats read here carry none that matters).
+/// One XML element: its name, attributes in document order, child elements, the 1-based line of
+/// its start tag and its own text content (MJCF carries none that matters; SDFormat puts every
+/// value there).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Element {
     pub(crate) name: String,
     pub(crate) attrs: Vec<(String, String)>,
     pub(crate) children: Vec<Element>,
+    /// The element's own text (character data and CDATA directly inside it, entities resolved),
+    /// as written, untrimmed.
+    pub(crate) text: String,
     pub(crate) line: usize,
     /// Index of the file the element came from, in the reader's own list of files.
     pub(crate) file: usize,
@@ -101,9 +106,19 @@ fn start_element(
         name,
         attrs,
         children: Vec::new(),
+        text: String::new(),
         line,
         file,
     })
+}
+
+fn encoding(text: &str, offset: usize, e: &dyn std::fmt::Display) -> XmlError {
+    let (line, column) = line_column(text, offset);
+    XmlError {
+        line,
+        column,
+        message: e.to_string(),
+    }
 }
 
 /// Parses `text` into its root element (the first top-level element), every element tagged with
@@ -171,6 +186,39 @@ pub(crate) fn parse(text: &str, file: usize) -> Result<Element, XmlError> {
                     }
                 }
             }
+            Event::Text(t) => {
+                if let Some(top) = stack.last_mut() {
+                    top.text
+                        .push_str(&t.decode().map_err(|e| encoding(text, offset, &e))?);
+                }
+            }
+            Event::CData(t) => {
+                if let Some(top) = stack.last_mut() {
+                    top.text
+                        .push_str(&t.decode().map_err(|e| encoding(text, offset, &e))?);
+                }
+            }
+            Event::GeneralRef(r) => {
+                if let Some(top) = stack.last_mut() {
+                    match r.resolve_char_ref().ok().flatten() {
+                        Some(c) => top.text.push(c),
+                        None => match r.decode().as_deref() {
+                            Ok("lt") => top.text.push('<'),
+                            Ok("gt") => top.text.push('>'),
+                            Ok("amp") => top.text.push('&'),
+                            Ok("apos") => top.text.push('\''),
+                            Ok("quot") => top.text.push('"'),
+                            // An entity of a DTD, or an invalid character reference: kept as
+                            // written (the readers find it is not a number or a name).
+                            _ => {
+                                top.text.push('&');
+                                top.text.push_str(&String::from_utf8_lossy(&r));
+                                top.text.push(';');
+                            }
+                        },
+                    }
+                }
+            }
             Event::Eof => break,
             _ => {}
         }
@@ -230,6 +278,11 @@ mod tests {
         assert_eq!(names, ["b", "c"]);
         assert_eq!(root.children[1].line, 5);
         assert_eq!(root.children[1].children[0].name, "d");
+        let root = parse("<a> 1 &lt; 2<![CDATA[ & 3]]>&#x41;<b>x</b></a>", 0).unwrap();
+        assert_eq!(root.text, " 1 < 2 & 3A");
+        assert_eq!(root.children[0].text, "x");
+        let root = parse("<a>&nbsp;&#xFFFFFFFF;</a>", 0).unwrap();
+        assert_eq!(root.text, "&nbsp;&#xFFFFFFFF;");
         assert_eq!(
             root_name("<?xml version='1.0'?><!-- x --><mujoco/>").as_deref(),
             Some("mujoco")

@@ -13,4 +13,5 @@ mod kinematics_derivatives;
 mod limits;
 mod mjcf;
 mod reference;
+mod sdf;
 mod simulation;

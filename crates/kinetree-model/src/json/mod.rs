@@ -208,17 +208,20 @@ impl Model {
 
     /// Loads a model file of any format kinetree reads: `.json` files as JSON (kinetree's schema,
     /// a yapCAD chain or a DH table, by their content); XML files (any extension) by their root
-    /// element: `<robot>` as URDF, `<mujoco>` as MJCF; anything else by its first non-blank
-    /// character, `<` or `{`.
+    /// element: `<robot>` as URDF, `<mujoco>` as MJCF, `<sdf>` as SDFormat; anything else by its
+    /// first non-blank character, `<` or `{`.
     ///
     /// `root`: for URDF, `None` means [`RootJoint::Fixed`]; for JSON, `None` keeps the file's own
     /// `root_joint` and a value overrides it. MJCF files say themselves how bodies attach to the
-    /// world (free joints), so `root` must be `None` or [`RootJoint::Fixed`] for them.
+    /// world (free joints), so `root` must be `None` or [`RootJoint::Fixed`] for them. For
+    /// SDFormat, `root` says what attaches the trees no joint attaches to the world
+    /// ([`SdfOptions::free_trees`](crate::sdf::SdfOptions::free_trees)): `None` keeps SDFormat's
+    /// meaning (floating).
     ///
     /// # Errors
     /// [`ModelError::UnknownFormat`] when the format cannot be told, [`ModelError::Unsupported`]
     /// for a floating root asked of an MJCF file, otherwise as [`Model::from_urdf_file`],
-    /// [`Model::from_json_file`] or [`Model::from_mjcf_file`].
+    /// [`Model::from_json_file`], [`Model::from_mjcf_file`] or [`Model::from_sdf_file`].
     pub fn from_file(
         path: impl AsRef<Path>,
         root: impl Into<Option<RootJoint>>,
@@ -243,6 +246,9 @@ impl Model {
                     });
                 }
                 crate::mjcf::from_mjcf(&text, Some(path))
+            }
+            Some('<') if crate::xml_tree::root_name(&text).as_deref() == Some("sdf") => {
+                crate::sdf::from_sdf_root(&text, path, root)
             }
             Some('<') => crate::urdf::from_urdf(
                 &text,

@@ -5,4 +5,5 @@ mod mjcf;
 mod reference;
 mod roots;
 mod roundtrip;
+mod sdf;
 mod tree;
