@@ -213,8 +213,29 @@ impl PyModel {
         Ok(Self::new(model, source))
     }
 
+    /// Loads an SDFormat file (``<sdf>``, versions 1.4–1.11), or SDFormat text (a string
+    /// starting with ``<``): links and joints keep their names; a tree not attached to the world
+    /// floats on a joint named after its root link, at the pose the file gives it.
+    ///
+    /// >>> acrobot = kinetree.Model.from_sdf(
+    /// ...     "tests/data/reference/sdf/drake/models/examples/acrobot/Acrobot.sdf")
+    /// >>> acrobot.nq, [j.name for j in acrobot.joints if j.nv]
+    /// (2, ['shoulder', 'elbow'])
+    #[staticmethod]
+    fn from_sdf(path_or_string: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let (text, path) = text_or_file(path_or_string, '<')?;
+        let model = match &path {
+            Some(p) => Model::from_sdf_file(p),
+            None => Model::from_sdf_str(&text),
+        }
+        .map_err(py_err)?;
+        let source = Source::Json(json_text(&model)?);
+        Ok(Self::new(model, source))
+    }
+
     /// Loads a model file of any format kinetree reads, told by its extension and content:
-    /// URDF (``<robot>``), MJCF (``<mujoco>``), kinetree JSON, yapCAD and DH JSON.
+    /// URDF (``<robot>``), MJCF (``<mujoco>``), SDFormat (``<sdf>``), kinetree JSON, yapCAD and
+    /// DH JSON.
     ///
     /// ``floating`` attaches a URDF's root by a 6-DoF joint, or overrides a JSON file's
     /// ``root_joint``; an MJCF file floats its bodies by its own free joints.

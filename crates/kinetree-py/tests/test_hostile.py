@@ -95,6 +95,8 @@ def baselines(model, ws, vox, ik, cm):
         ("Model.from_json", M.from_json, [json_text], {"floating": None}),
         ("Model.from_mjcf", M.from_mjcf,
          ['<mujoco><worldbody><body><joint/><geom size="0.1"/></body></worldbody></mujoco>'], {}),
+        ("Model.from_sdf", M.from_sdf,
+         ['<sdf version="1.7"><model name="m"><link name="a"/></model></sdf>'], {}),
         ("Model.load", M.load, [str(ROBOTS / "panda.urdf")], {"floating": None}),
         ("Model.q_from_mujoco", model.q_from_mujoco, [q], {}),
         ("Model.q_to_mujoco", model.q_to_mujoco, [q2], {}),

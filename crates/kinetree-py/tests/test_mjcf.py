@@ -84,3 +84,17 @@ def test_text_load_and_errors():
         m.q_from_mujoco([0.0, 1.0])
     with pytest.raises(kinetree.ModelError, match="floating"):
         kinetree.Model.load(str(MJCF / "models/gym_hopper/hopper.xml"), floating=True)
+
+
+def test_sdformat_loads_like_drake():
+    """Drake's acrobot: the two revolute joints, and its mass matrix at q = 0 (Drake's value)."""
+    ref = json.loads((REFERENCE / "sdf" / "drake" / "Acrobot.json").read_text())
+    path = REFERENCE / "sdf" / "drake" / "models" / "examples" / "acrobot" / "Acrobot.sdf"
+    model = kinetree.Model.from_sdf(str(path))
+    assert model.nq == 2 and kinetree.Model.load(str(path)).nq == 2
+    sample = ref["samples"][0]
+    # Drake names positions <model>_<joint>_q.
+    q = model.q_from_dict({n[len("Acrobot_"):-len("_q")]: x for n, x in zip(ref["position_names"], sample["q"])})
+    close_rel(model.crba(q), sample["mass_matrix"])
+    with pytest.raises(kinetree.ModelError):
+        kinetree.Model.from_sdf('<sdf version="1.7"><model name="m"><joint name="j" type="screw"/></model></sdf>')
