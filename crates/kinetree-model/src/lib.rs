@@ -67,7 +67,7 @@
 //!   [`Issue`]; `compare`: structural comparison of two models.
 //! - [`urdf`]: URDF import (`urdf/read.rs`) and export (`urdf/write.rs`).
 //! - [`mesh`]: STL and OBJ triangle meshes and the rules that find their files.
-//! - [`mjcf`]: MJCF import (`mjcf/read.rs`: the document, defaults and the body tree;
+//! - [`mjcf`]: MJCF import (`mjcf/read.rs` and `mjcf/read/`: includes, defaults, the body tree, masses, the emitted tree;
 //!   `mjcf/inertia.rs`: masses inferred from geoms; `mjcf/orient.rs`: orientation forms) and the
 //!   MuJoCo coordinate conversions (`mjcf/mod.rs`); `xml_tree`: the owned, depth-limited XML tree
 //!   it reads.
