@@ -30,6 +30,7 @@ mod arrays;
 mod collision;
 mod dynamics;
 mod errors;
+mod formats;
 mod ik;
 mod kinematics;
 mod model;
