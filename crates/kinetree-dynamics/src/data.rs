@@ -162,6 +162,9 @@ pub struct DynamicsData {
     pub(crate) body_inertia: Vec<OriginInertia>,
     /// The form of each body's placement rotation (constant, from the model).
     pub(crate) placement_rot: Vec<RotationForm>,
+    /// Per body, the coordinate axis its revolute joint turns about alone, else 3
+    /// ([`turn_axes`](crate::rnea::turn_axes)).
+    pub(crate) turn: Vec<u8>,
     /// The joint rotation of each body in the last sweep, when about a coordinate axis.
     pub(crate) joint_rot: Vec<JointRot>,
     pub(crate) articulated: Vec<ArticulatedInertia>,
@@ -267,6 +270,7 @@ impl DynamicsData {
                 .iter()
                 .map(|b| RotationForm::classify(&b.placement.rotation))
                 .collect(),
+            turn: Vec::new(),
             joint_rot: vec![JointRot::NONE; nb],
             articulated: vec![ArticulatedInertia::ZERO; nb],
             bias: vec![Motion::ZERO; nb],
@@ -296,6 +300,7 @@ impl DynamicsData {
             k_acc: core::array::from_fn(|_| vec![0.0; nv]),
         };
         data.fill_joint_terms(model, joint_terms);
+        data.turn = crate::rnea::turn_axes(data.kinematics.joint_models(), &data.placement_rot);
         data
     }
 

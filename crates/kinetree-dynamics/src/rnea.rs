@@ -1,14 +1,13 @@
 //! Inverse dynamics: the recursive Newton–Euler algorithm and the torques derived from it.
 
-use crate::data::{DynamicsData, sign};
+use crate::data::DynamicsData;
 use crate::error::{DynamicsError, check_output, check_vector};
 use crate::external::ExternalForces;
+use core::ops::IndexMut;
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
-use kinetree_kinematics::spatial::RotationForm;
-use kinetree_kinematics::spatial::axis::cross_unit;
-use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::{Force, Motion, Se3};
+use kinetree_kinematics::spatial::real::{Matrix3, Real, Vector3};
+use kinetree_kinematics::spatial::{Force, Motion, RotationForm, Se3};
 
 /// Which output buffer a sweep writes.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -164,7 +163,8 @@ pub(crate) fn check_inputs(
     Ok(())
 }
 
-/// The RNEA sweeps. `VEL`: `v` is used (else zero); `ACC`: `a` is used (else zero).
+/// The RNEA sweeps of one state. `VEL`: `v` is used (else zero); `ACC`: `a` is used (else
+/// zero).
 ///
 /// `q`, the local placements and the body velocities go to the embedded
 /// [`KinematicsData`](kinetree_kinematics::KinematicsData), as forward kinematics would write
@@ -193,7 +193,7 @@ pub(crate) fn sweep<const VEL: bool, const ACC: bool>(
     );
 }
 
-/// [`sweep`], to be compiled for the instruction set it runs with.
+/// [`sweep`], to be compiled for the instruction set it runs with: the generic sweeps on `f64`.
 #[inline(always)]
 fn sweep_kernel<const VEL: bool, const ACC: bool>(
     model: &Model,
@@ -204,73 +204,175 @@ fn sweep_kernel<const VEL: bool, const ACC: bool>(
     fext: Option<&ExternalForces>,
     output: Output,
 ) {
-    let bodies = model.bodies();
-    let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
-    let world = fext.is_some_and(ExternalForces::needs_world);
     let kin = data.kinematics.body_buffers_mut();
     kin.q.copy_from_slice(q);
     let joint_models = kin.joint_models;
-    let placement_rot = &data.placement_rot;
-    for i in 1..bodies.len() {
-        let b = &bodies[i];
-        let jm = &joint_models[i];
-        let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
-        kin.parent_from_body[i] = x;
-        let p = b.parent;
-        if world {
-            kin.world_from_body[i] = if p == 0 {
-                x
-            } else {
-                kin.world_from_body[p] * x
-            };
+    let bodies = Bodies {
+        model,
+        joint_models,
+        turn: &data.turn,
+    };
+    let mut state = Sweep {
+        parent_from_body: &mut *kin.parent_from_body,
+        velocity: &mut *kin.body_velocity,
+        acceleration: &mut data.acceleration,
+        force: &mut data.force,
+    };
+    forward::<f64, VEL, ACC>(&bodies, &mut state, q, v, a);
+    if let Some(fext) = fext {
+        if fext.needs_world() {
+            let world = &mut *kin.world_from_body;
+            for (i, b) in model.bodies().iter().enumerate().skip(1) {
+                let x = state.parent_from_body[i];
+                world[i] = if b.parent == 0 {
+                    x
+                } else {
+                    world[b.parent] * x
+                };
+            }
         }
-        let parent_a = if p == 0 { a0 } else { data.acceleration[p] };
-        let parent_v = if VEL && p != 0 {
-            kin.body_velocity[p]
-        } else {
-            Motion::ZERO
+        let force = &mut *state.force;
+        fext.for_each_local(&*kin.world_from_body, |body, f| force[body] -= f);
+    }
+    let out = match output {
+        Output::Tau => &mut data.tau,
+        Output::Nle => &mut data.nle,
+        Output::Gravity => &mut data.gravity_torque,
+    };
+    backward(&bodies, &mut state, out);
+    if data.has_joint_terms {
+        let terms = JointTermsRef {
+            armature: &data.armature,
+            damping: &data.damping,
+            friction: &data.friction,
         };
-        let scalar = |s: &[f64]| if s.is_empty() { 0.0 } else { s[b.idx_v] };
-        let (qd, qdd) = (scalar(v), scalar(a));
-        // A revolute joint whose placement does not rotate, or rotates about the joint's own
-        // axis, turns about that axis only: its rotation has four entries that are not 0 or 1
-        // (see `AxisTurn`).
-        let placement = &placement_rot[i];
-        let (vi, ai) = match jm {
-            JointModel::RevoluteX if turns_about(placement, 0) => {
-                body::<VEL, ACC, 0, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+        terms.add::<f64, VEL, ACC>(v, a, out);
+    }
+}
+
+/// What the RNEA sweeps read of the model: its bodies, their joint models and, per body, the
+/// coordinate axis its revolute joint turns about alone (`DynamicsData::turn`, else 3).
+pub(crate) struct Bodies<'a> {
+    pub(crate) model: &'a Model,
+    pub(crate) joint_models: &'a [JointModel],
+    pub(crate) turn: &'a [u8],
+}
+
+/// The per-body buffers the RNEA sweeps write: of one state (`T = f64`, slices of the data) or
+/// of a block of states in lanes (the batch's lane buffers).
+pub(crate) struct Sweep<'a, P: ?Sized, V: ?Sized, F: ?Sized> {
+    pub(crate) parent_from_body: &'a mut P,
+    pub(crate) velocity: &'a mut V,
+    pub(crate) acceleration: &'a mut V,
+    pub(crate) force: &'a mut F,
+}
+
+/// The joints' armature, damping and friction per degree of freedom.
+pub(crate) struct JointTermsRef<'a> {
+    pub(crate) armature: &'a [f64],
+    pub(crate) damping: &'a [f64],
+    pub(crate) friction: &'a [f64],
+}
+
+impl JointTermsRef<'_> {
+    /// `out += r·a + d·v + μ·sign(v)` (the terms of `ACC` and `VEL` only).
+    #[inline(always)]
+    pub(crate) fn add<T: Real, const VEL: bool, const ACC: bool>(
+        &self,
+        v: &[T],
+        a: &[T],
+        out: &mut [T],
+    ) {
+        for k in 0..self.armature.len() {
+            let mut t = T::ZERO;
+            if ACC {
+                t += a[k] * self.armature[k];
             }
-            JointModel::RevoluteY if turns_about(placement, 1) => {
-                body::<VEL, ACC, 1, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+            if VEL {
+                t += v[k] * self.damping[k] + v[k].sign() * self.friction[k];
             }
-            JointModel::RevoluteZ if turns_about(placement, 2) => {
-                body::<VEL, ACC, 2, true, true>(&x, p, &parent_v, &parent_a, qd, qdd)
+            out[k] += t;
+        }
+    }
+}
+
+/// The forward sweep of RNEA, written once for one state (`T = f64`) and for a block of states
+/// in lanes: each body's placement, velocity, acceleration (with gravity: the root accelerates
+/// by `-g`) and net force `I·a + v ×* I·v`.
+#[inline(always)]
+pub(crate) fn forward<T: Real, const VEL: bool, const ACC: bool>(
+    bodies: &Bodies<'_>,
+    state: &mut Sweep<
+        '_,
+        impl IndexMut<usize, Output = Se3<T>> + ?Sized,
+        impl IndexMut<usize, Output = Motion<T>> + ?Sized,
+        impl IndexMut<usize, Output = Force<T>> + ?Sized,
+    >,
+    q: &[T],
+    v: &[T],
+    a: &[T],
+) {
+    let model = bodies.model;
+    let a0 = Motion::<T> {
+        linear: T::V3::from_const(-model.gravity()),
+        angular: T::V3::ZERO,
+    };
+    for (i, b) in model.bodies().iter().enumerate().skip(1) {
+        let jm = &bodies.joint_models[i];
+        let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        state.parent_from_body[i].assign(&x);
+        let p = b.parent;
+        let parent_a = if p == 0 { a0 } else { state.acceleration[p] };
+        let parent_v = if VEL && p != 0 {
+            state.velocity[p]
+        } else {
+            Motion::zero()
+        };
+        let (vi, ai) = match jm.axis_index() {
+            Some((k, revolute)) => {
+                let qd = if VEL { v[b.idx_v] } else { T::ZERO };
+                let qdd = if ACC { a[b.idx_v] } else { T::ZERO };
+                // A revolute joint whose placement does not rotate, or rotates about the joint's
+                // own axis, turns about that axis only (see `AxisTurn`).
+                let turn = usize::from(bodies.turn[i]) == k;
+                let (pv, pa) = (&parent_v, &parent_a);
+                match (k, revolute, turn) {
+                    (0, true, true) => {
+                        axis_body::<T, VEL, ACC, 0, true, true>(&x, p, pv, pa, qd, qdd)
+                    }
+                    (1, true, true) => {
+                        axis_body::<T, VEL, ACC, 1, true, true>(&x, p, pv, pa, qd, qdd)
+                    }
+                    (_, true, true) => {
+                        axis_body::<T, VEL, ACC, 2, true, true>(&x, p, pv, pa, qd, qdd)
+                    }
+                    (0, true, false) => {
+                        axis_body::<T, VEL, ACC, 0, true, false>(&x, p, pv, pa, qd, qdd)
+                    }
+                    (1, true, false) => {
+                        axis_body::<T, VEL, ACC, 1, true, false>(&x, p, pv, pa, qd, qdd)
+                    }
+                    (_, true, false) => {
+                        axis_body::<T, VEL, ACC, 2, true, false>(&x, p, pv, pa, qd, qdd)
+                    }
+                    (0, false, _) => {
+                        axis_body::<T, VEL, ACC, 0, false, false>(&x, p, pv, pa, qd, qdd)
+                    }
+                    (1, false, _) => {
+                        axis_body::<T, VEL, ACC, 1, false, false>(&x, p, pv, pa, qd, qdd)
+                    }
+                    (_, false, _) => {
+                        axis_body::<T, VEL, ACC, 2, false, false>(&x, p, pv, pa, qd, qdd)
+                    }
+                }
             }
-            JointModel::RevoluteX => {
-                body::<VEL, ACC, 0, true, false>(&x, p, &parent_v, &parent_a, qd, qdd)
-            }
-            JointModel::RevoluteY => {
-                body::<VEL, ACC, 1, true, false>(&x, p, &parent_v, &parent_a, qd, qdd)
-            }
-            JointModel::RevoluteZ => {
-                body::<VEL, ACC, 2, true, false>(&x, p, &parent_v, &parent_a, qd, qdd)
-            }
-            JointModel::PrismaticX => {
-                body::<VEL, ACC, 0, false, false>(&x, p, &parent_v, &parent_a, qd, qdd)
-            }
-            JointModel::PrismaticY => {
-                body::<VEL, ACC, 1, false, false>(&x, p, &parent_v, &parent_a, qd, qdd)
-            }
-            JointModel::PrismaticZ => {
-                body::<VEL, ACC, 2, false, false>(&x, p, &parent_v, &parent_a, qd, qdd)
-            }
-            _ => {
+            None => {
                 let r = b.idx_v..b.idx_v + b.nv;
                 let mut ai = x.act_inv_motion(&parent_a);
                 if ACC {
                     ai += jm.motion(&a[r.clone()]);
                 }
-                let mut vi = Motion::ZERO;
+                let mut vi = Motion::zero();
                 if VEL {
                     let vj = jm.motion(&v[r]);
                     vi = if p == 0 {
@@ -283,197 +385,186 @@ fn sweep_kernel<const VEL: bool, const ACC: bool>(
                 (vi, ai)
             }
         };
-        let inertia = &b.inertia;
         let f = if VEL {
-            inertia.rnea_force(&vi, &ai)
+            b.inertia.rnea_force(&vi, &ai)
         } else {
-            inertia.mul_motion(&ai)
+            b.inertia.mul_motion(&ai)
         };
-        kin.body_velocity[i] = vi;
-        data.acceleration[i] = ai;
-        data.force[i] = f;
+        state.velocity[i] = vi;
+        state.acceleration[i] = ai;
+        state.force[i] = f;
     }
-    if let Some(fext) = fext {
-        let force = &mut data.force;
-        fext.for_each_local(data.kinematics.world_from_body(), |body, f| {
-            force[body] -= f
-        });
-    }
-    let out = match output {
-        Output::Tau => &mut data.tau,
-        Output::Nle => &mut data.nle,
-        Output::Gravity => &mut data.gravity_torque,
-    };
-    let (joint_models, parent_from_body) = (
-        data.kinematics.joint_models(),
-        data.kinematics.parent_from_body(),
-    );
-    for i in (1..bodies.len()).rev() {
-        let b = &bodies[i];
-        let fi = data.force[i];
-        let jm = &joint_models[i];
+}
+
+/// The backward sweep of RNEA, written once for one state and for lanes: each joint's torque
+/// `Sᵀ·f` into `out`, and each body's force added to its parent's.
+#[inline(always)]
+pub(crate) fn backward<T: Real, P, V>(
+    bodies: &Bodies<'_>,
+    state: &mut Sweep<'_, P, V, impl IndexMut<usize, Output = Force<T>> + ?Sized>,
+    out: &mut [T],
+) where
+    P: IndexMut<usize, Output = Se3<T>> + ?Sized,
+    V: ?Sized,
+{
+    for (i, b) in bodies.model.bodies().iter().enumerate().skip(1).rev() {
+        let fi = state.force[i];
+        let jm = &bodies.joint_models[i];
         match jm.project_axis(&fi) {
             Some(x) => out[b.idx_v] = x,
             None => jm.project_force(&fi, &mut out[b.idx_v..b.idx_v + b.nv]),
         }
         if b.parent != 0 {
-            let x = &parent_from_body[i];
-            let fp = match jm.axis_index() {
-                Some((k, true)) if turns_about(&data.placement_rot[i], k) => match k {
-                    0 => AxisTurn::<0>(x).act_force(&fi),
-                    1 => AxisTurn::<1>(x).act_force(&fi),
-                    _ => AxisTurn::<2>(x).act_force(&fi),
-                },
+            let x = &state.parent_from_body[i];
+            let fp = match bodies.turn[i] {
+                0 => AxisTurn::<T, 0>(x).act_force(&fi),
+                1 => AxisTurn::<T, 1>(x).act_force(&fi),
+                2 => AxisTurn::<T, 2>(x).act_force(&fi),
                 _ => x.act_force(&fi),
             };
-            data.force[b.parent] += fp;
-        }
-    }
-    if data.has_joint_terms {
-        for k in 0..out.len() {
-            let mut t = 0.0;
-            if ACC {
-                t += data.armature[k] * a[k];
-            }
-            if VEL {
-                t += data.damping[k] * v[k] + data.friction[k] * sign(v[k]);
-            }
-            out[k] += t;
+            state.force[b.parent] += fp;
         }
     }
 }
 
-/// Whether a revolute joint about coordinate axis `k` placed with rotation `placement` turns
-/// about that axis only: the placement does not rotate, or rotates about the same axis (then
-/// the placed rotation's `k` column and row are exactly `e_k`, see [`AxisTurn`]).
-#[inline(always)]
-pub(crate) fn turns_about(placement: &RotationForm, k: usize) -> bool {
-    match placement {
-        RotationForm::Identity => true,
-        RotationForm::Axis { k: j, .. } => *j == k,
-        RotationForm::General(_) => false,
-    }
+/// Per body, the coordinate axis (0, 1, 2) its revolute joint turns about alone, or 3: when
+/// the placement does not rotate, or rotates about the joint's own axis, the placed rotation's
+/// axis column and row are exactly `e_k` (see [`AxisTurn`]).
+pub(crate) fn turn_axes(joint_models: &[JointModel], placement_rot: &[RotationForm]) -> Vec<u8> {
+    joint_models
+        .iter()
+        .zip(placement_rot)
+        .enumerate()
+        .map(|(i, (jm, placement))| match (jm.axis_index(), placement) {
+            (Some((k, true)), RotationForm::Identity) if i > 0 => k as u8,
+            (Some((k, true)), RotationForm::Axis { k: j, .. }) if i > 0 && *j == k => k as u8,
+            _ => 3,
+        })
+        .collect()
 }
 
 /// Velocity and acceleration of a body whose joint is revolute about (`REV`) or prismatic along
 /// its axis `K`, from the parent's (in the parent frame) and the joint rates `qd`, `qdd`.
-/// With `TURN`, `x`'s rotation is about axis `K` only (a revolute joint whose placement does not
-/// rotate) and is applied through [`AxisTurn`].
+/// With `TURN`, `x`'s rotation is about axis `K` only and is applied through [`AxisTurn`].
 #[inline(always)]
-fn body<const VEL: bool, const ACC: bool, const K: usize, const REV: bool, const TURN: bool>(
-    x: &Se3,
+fn axis_body<
+    T: Real,
+    const VEL: bool,
+    const ACC: bool,
+    const K: usize,
+    const REV: bool,
+    const TURN: bool,
+>(
+    x: &Se3<T>,
     parent: usize,
-    parent_v: &Motion,
-    parent_a: &Motion,
-    qd: f64,
-    qdd: f64,
-) -> (Motion, Motion) {
-    let inv = |m: &Motion| {
-        if TURN {
-            AxisTurn::<K>(x).act_inv_motion(m)
-        } else {
-            x.act_inv_motion(m)
-        }
-    };
-    let mut ai = inv(parent_a);
+    parent_v: &Motion<T>,
+    parent_a: &Motion<T>,
+    qd: T,
+    qdd: T,
+) -> (Motion<T>, Motion<T>) {
+    let mut ai = inv_motion::<T, K, TURN>(x, parent_a);
     if ACC {
         if REV {
-            ai.angular[K] += qdd;
+            *ai.angular.get_mut(K) += qdd;
         } else {
-            ai.linear[K] += qdd;
+            *ai.linear.get_mut(K) += qdd;
         }
     }
-    let mut vi = Motion::ZERO;
+    let mut vi = Motion::zero();
     if VEL {
         if parent != 0 {
-            vi = inv(parent_v);
+            vi = inv_motion::<T, K, TURN>(x, parent_v);
         }
         // a += v ×ₘ vj, with vj = qd·e_K (angular or linear); exactly zero when v = vj.
         if REV {
-            vi.angular[K] += qd;
-            ai.linear += cross_unit::<K>(vi.linear, qd);
-            ai.angular += cross_unit::<K>(vi.angular, qd);
+            *vi.angular.get_mut(K) += qd;
+            add_cross_unit::<T, K>(&mut ai.linear, &vi.linear, qd);
+            add_cross_unit::<T, K>(&mut ai.angular, &vi.angular, qd);
         } else {
-            vi.linear[K] += qd;
-            ai.linear += cross_unit::<K>(vi.angular, qd);
+            *vi.linear.get_mut(K) += qd;
+            add_cross_unit::<T, K>(&mut ai.linear, &vi.angular, qd);
         }
     }
     (vi, ai)
+}
+
+/// `x.act_inv_motion(m)`, through [`AxisTurn`] with `TURN`.
+#[inline(always)]
+fn inv_motion<T: Real, const K: usize, const TURN: bool>(x: &Se3<T>, m: &Motion<T>) -> Motion<T> {
+    if TURN {
+        AxisTurn::<T, K>(x).act_inv_motion(m)
+    } else {
+        x.act_inv_motion(m)
+    }
+}
+
+/// `out += u × (s·e_K)`, leaving out the component that is zero.
+#[inline(always)]
+fn add_cross_unit<T: Real, const K: usize>(out: &mut T::V3, u: &T::V3, s: T) {
+    let (i, j) = ((K + 1) % 3, (K + 2) % 3);
+    // e_i × e_K = -e_j and e_j × e_K = e_i, for (i, j, K) a cyclic order.
+    *out.get_mut(i) += u.get(j) * s;
+    *out.get_mut(j) += -u.get(i) * s;
 }
 
 /// A transform whose rotation turns about coordinate axis `K` only (its `K` column and row are
 /// `e_K`): the motion and force kernels with the products by those 0 and 1 entries left out.
 /// The same numbers as [`Se3::act_inv_motion`] and [`Se3::act_force`] (adding a product by 0
 /// changes nothing).
-struct AxisTurn<'a, const K: usize>(&'a Se3);
+struct AxisTurn<'a, T: Real, const K: usize>(&'a Se3<T>);
 
-impl<const K: usize> AxisTurn<'_, K> {
-    /// `R·u`.
+impl<T: Real, const K: usize> AxisTurn<'_, T, K> {
+    /// `R·u` (`TRANSPOSE`: `Rᵀ·u`) over the two coordinates other than `K`.
     #[inline(always)]
-    fn rotate(&self, u: DVec3) -> DVec3 {
+    fn rotate<const TRANSPOSE: bool>(&self, u: &T::V3) -> T::V3 {
         let r = &self.0.rotation;
-        match K {
-            0 => DVec3::new(
-                u.x,
-                r.y_axis.y * u.y + r.z_axis.y * u.z,
-                r.y_axis.z * u.y + r.z_axis.z * u.z,
-            ),
-            1 => DVec3::new(
-                r.x_axis.x * u.x + r.z_axis.x * u.z,
-                u.y,
-                r.x_axis.z * u.x + r.z_axis.z * u.z,
-            ),
-            _ => DVec3::new(
-                r.x_axis.x * u.x + r.y_axis.x * u.y,
-                r.x_axis.y * u.x + r.y_axis.y * u.y,
-                u.z,
-            ),
-        }
-    }
-
-    /// `Rᵀ·u`.
-    #[inline(always)]
-    fn inverse_rotate(&self, u: DVec3) -> DVec3 {
-        let r = &self.0.rotation;
-        match K {
-            0 => DVec3::new(
-                u.x,
-                r.y_axis.y * u.y + r.y_axis.z * u.z,
-                r.z_axis.y * u.y + r.z_axis.z * u.z,
-            ),
-            1 => DVec3::new(
-                r.x_axis.x * u.x + r.x_axis.z * u.z,
-                u.y,
-                r.z_axis.x * u.x + r.z_axis.z * u.z,
-            ),
-            _ => DVec3::new(
-                r.x_axis.x * u.x + r.x_axis.y * u.y,
-                r.y_axis.x * u.x + r.y_axis.y * u.y,
-                u.z,
-            ),
-        }
+        let (i, j) = ((K + 1) % 3, (K + 2) % 3);
+        let mut out = *u;
+        // Entries (i, i), (i, j), (j, i), (j, j) of R, or of Rᵀ.
+        let (ii, ij, ji, jj) = if TRANSPOSE {
+            (
+                r.col(i).get(i),
+                r.col(i).get(j),
+                r.col(j).get(i),
+                r.col(j).get(j),
+            )
+        } else {
+            (
+                r.col(i).get(i),
+                r.col(j).get(i),
+                r.col(i).get(j),
+                r.col(j).get(j),
+            )
+        };
+        *out.get_mut(i) = ii * u.get(i) + ij * u.get(j);
+        *out.get_mut(j) = ji * u.get(i) + jj * u.get(j);
+        out
     }
 
     /// [`Se3::act_inv_motion`].
     #[inline(always)]
-    fn act_inv_motion(&self, m: &Motion) -> Motion {
-        Motion::new(
-            self.inverse_rotate(m.linear - self.0.translation.cross(m.angular)),
-            self.inverse_rotate(m.angular),
-        )
+    fn act_inv_motion(&self, m: &Motion<T>) -> Motion<T> {
+        Motion {
+            linear: self.rotate::<true>(&(m.linear - self.0.translation.cross(&m.angular))),
+            angular: self.rotate::<true>(&m.angular),
+        }
     }
 
     /// [`Se3::act_force`].
     #[inline(always)]
-    fn act_force(&self, f: &Force) -> Force {
-        let lin = self.rotate(f.linear);
-        Force::new(lin, self.rotate(f.angular) + self.0.translation.cross(lin))
+    fn act_force(&self, f: &Force<T>) -> Force<T> {
+        let lin = self.rotate::<false>(&f.linear);
+        Force {
+            linear: lin,
+            angular: self.rotate::<false>(&f.angular) + self.0.translation.cross(&lin),
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use kinetree_kinematics::spatial::glam::DVec3;
 
     #[test]
     fn axis_turns_match_the_full_kernels() {
@@ -483,34 +574,34 @@ mod tests {
         for theta in [-2.5, -0.3, 0.0, 0.7, 3.0] {
             let x = Se3::new(Se3::from_rotation_x(theta).rotation, t);
             assert!(
-                AxisTurn::<0>(&x)
+                AxisTurn::<f64, 0>(&x)
                     .act_inv_motion(&m)
                     .abs_diff_eq(&x.act_inv_motion(&m), 1e-15)
             );
             assert!(
-                AxisTurn::<0>(&x)
+                AxisTurn::<f64, 0>(&x)
                     .act_force(&f)
                     .abs_diff_eq(&x.act_force(&f), 1e-15)
             );
             let x = Se3::new(Se3::from_rotation_y(theta).rotation, t);
             assert!(
-                AxisTurn::<1>(&x)
+                AxisTurn::<f64, 1>(&x)
                     .act_inv_motion(&m)
                     .abs_diff_eq(&x.act_inv_motion(&m), 1e-15)
             );
             assert!(
-                AxisTurn::<1>(&x)
+                AxisTurn::<f64, 1>(&x)
                     .act_force(&f)
                     .abs_diff_eq(&x.act_force(&f), 1e-15)
             );
             let x = Se3::new(Se3::from_rotation_z(theta).rotation, t);
             assert!(
-                AxisTurn::<2>(&x)
+                AxisTurn::<f64, 2>(&x)
                     .act_inv_motion(&m)
                     .abs_diff_eq(&x.act_inv_motion(&m), 1e-15)
             );
             assert!(
-                AxisTurn::<2>(&x)
+                AxisTurn::<f64, 2>(&x)
                     .act_force(&f)
                     .abs_diff_eq(&x.act_force(&f), 1e-15)
             );

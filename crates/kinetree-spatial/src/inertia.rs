@@ -1,6 +1,7 @@
 //! Spatial inertia of a rigid body: mass, centre of mass and rotational inertia.
 
 use crate::motion::{Force, Motion};
+use crate::real::{Real, Vector3};
 use crate::rotation::skew;
 use crate::se3::Se3;
 use crate::symmetric3::{InertiaDefect, Symmetric3};
@@ -134,29 +135,36 @@ impl Inertia {
     }
 
     /// The momentum `I · v` of a body moving with twist `v` (same frame as the inertia).
-    #[inline]
+    #[inline(always)]
     #[must_use]
-    pub fn mul_motion(&self, v: &Motion) -> Force {
+    pub fn mul_motion<T: Real>(&self, v: &Motion<T>) -> Force<T> {
         // Linear momentum m (v + ω × c); angular momentum about the origin c × p + I_c ω.
-        let lin = (v.linear + v.angular.cross(self.com)) * self.mass;
-        let ang = self.com.cross(lin) + self.rotational.mul_vec3(v.angular);
-        Force::new(lin, ang)
+        let lin = (v.linear + v.angular.cross_const(self.com)).scale_by(self.mass);
+        let angular =
+            T::V3::const_cross(self.com, &lin) + self.rotational.mul_vector::<T>(&v.angular);
+        Force {
+            linear: lin,
+            angular,
+        }
     }
 
     /// The net force `I·a + v ×* (I·v)` on a body moving with twist `v` and acceleration `a`
     /// (the body force of the recursive Newton–Euler algorithm), in fewer operations than the
     /// two products and the cross product: with the linear momentum `p = m·(v + ω × c)`, the
     /// gyroscopic term `v ×* (I·v)` is `(ω × p, c × (ω × p) + ω × (I_c·ω))`.
-    #[inline]
+    #[inline(always)]
     #[must_use]
-    pub fn rnea_force(&self, v: &Motion, a: &Motion) -> Force {
-        let w = v.angular;
-        let p = (v.linear + w.cross(self.com)) * self.mass;
-        let lin = (a.linear + a.angular.cross(self.com)) * self.mass + w.cross(p);
-        let ang = self.com.cross(lin)
-            + self.rotational.mul_vec3(a.angular)
-            + w.cross(self.rotational.mul_vec3(w));
-        Force::new(lin, ang)
+    pub fn rnea_force<T: Real>(&self, v: &Motion<T>, a: &Motion<T>) -> Force<T> {
+        let w = &v.angular;
+        let p = (v.linear + w.cross_const(self.com)).scale_by(self.mass);
+        let lin = (a.linear + a.angular.cross_const(self.com)).scale_by(self.mass) + w.cross(&p);
+        let angular = T::V3::const_cross(self.com, &lin)
+            + self.rotational.mul_vector::<T>(&a.angular)
+            + w.cross(&self.rotational.mul_vector::<T>(w));
+        Force {
+            linear: lin,
+            angular,
+        }
     }
 
     /// The kinetic energy `½ vᵀ I v` of a body moving with twist `v`.

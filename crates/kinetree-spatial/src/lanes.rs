@@ -10,20 +10,23 @@
 //!
 //! ```
 //! use kinetree_spatial::lanes::{LSe3, LVec3};
+//! use kinetree_spatial::real::Vector3;
 //! use kinetree_spatial::{DVec3, Se3};
 //! let a = Se3::from_xyz_rpy([0.1, 0.2, 0.3], [0.4, 0.5, 0.6]);
 //! let b = Se3::from_xyz_rpy([-0.3, 0.0, 0.7], [0.1, -0.2, 0.3]);
 //! let mut lanes = LSe3::<4>::splat(&a);
 //! lanes.set_lane(2, &b);
-//! let product = lanes.mul(&LSe3::splat(&a));
+//! let product = lanes.compose(&LSe3::splat(&a));
 //! assert_eq!(product.lane(2), b * a);
 //! assert_eq!(product.lane(0), a * a);
 //! let p = LVec3::<4>::splat(DVec3::X);
 //! assert_eq!(p.cross(&p).lane(1), DVec3::ZERO);
 //! ```
 
-use crate::{Force, Inertia, Motion, OriginInertia, Se3, Symmetric3};
-use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
+use crate::{Force, Motion, Se3};
+#[cfg(test)]
+use crate::{Inertia, OriginInertia, Symmetric3};
+use core::ops::{Add, AddAssign, Div, DivAssign, Mul, Neg, Sub, SubAssign};
 use glam::{DMat3, DVec3};
 
 /// A lane value on a 64-byte boundary (a [`LaneVec`] element). The lane types' sizes at 8 lanes
@@ -38,7 +41,7 @@ struct Aligned<T>(T);
 ///
 /// ```
 /// use kinetree_spatial::lanes::{LaneVec, LMotion};
-/// let mut v = LaneVec::new(LMotion::<8>::ZERO, 3);
+/// let mut v = LaneVec::new(LMotion::<8>::zero(), 3);
 /// v[1].linear.x.0[2] = 1.0;
 /// assert_eq!(v.len(), 3);
 /// assert_eq!(v.iter().map(|m| m.linear.x.0[2]).sum::<f64>(), 1.0);
@@ -177,6 +180,7 @@ macro_rules! lane_binary {
 
 lane_binary!(Add, add, AddAssign, add_assign, +);
 lane_binary!(Sub, sub, SubAssign, sub_assign, -);
+lane_binary!(Div, div, DivAssign, div_assign, /);
 
 impl<const L: usize> Mul for Lanes<L> {
     type Output = Self;
@@ -257,89 +261,6 @@ impl<const L: usize> LVec3<L> {
         self.x.0[l] = v.x;
         self.y.0[l] = v.y;
         self.z.0[l] = v.z;
-    }
-
-    /// Coordinate `k` (0, 1, 2 for x, y, z).
-    #[inline(always)]
-    #[must_use]
-    pub fn get(&self, k: usize) -> Lanes<L> {
-        match k {
-            0 => self.x,
-            1 => self.y,
-            _ => self.z,
-        }
-    }
-
-    /// Coordinate `k` (0, 1, 2 for x, y, z), mutably.
-    #[inline(always)]
-    pub fn get_mut(&mut self, k: usize) -> &mut Lanes<L> {
-        match k {
-            0 => &mut self.x,
-            1 => &mut self.y,
-            _ => &mut self.z,
-        }
-    }
-
-    /// Every coordinate times the lane's `s`.
-    #[inline(always)]
-    #[must_use]
-    pub fn scale(&self, s: Lanes<L>) -> Self {
-        Self {
-            x: self.x * s,
-            y: self.y * s,
-            z: self.z * s,
-        }
-    }
-
-    /// Every coordinate times `s`.
-    #[inline(always)]
-    #[must_use]
-    pub fn scale_by(&self, s: f64) -> Self {
-        Self {
-            x: self.x * s,
-            y: self.y * s,
-            z: self.z * s,
-        }
-    }
-
-    /// The cross product (as `DVec3::cross`).
-    #[inline(always)]
-    #[must_use]
-    pub fn cross(&self, r: &Self) -> Self {
-        Self {
-            x: self.y * r.z - r.y * self.z,
-            y: self.z * r.x - r.z * self.x,
-            z: self.x * r.y - r.x * self.y,
-        }
-    }
-
-    /// The cross product with a constant (as `DVec3::cross`).
-    #[inline(always)]
-    #[must_use]
-    pub fn cross_const(&self, r: DVec3) -> Self {
-        Self {
-            x: self.y * r.z - self.z * r.y,
-            y: self.z * r.x - self.x * r.z,
-            z: self.x * r.y - self.y * r.x,
-        }
-    }
-
-    /// A constant's cross product with this vector (as `DVec3::cross`).
-    #[inline(always)]
-    #[must_use]
-    pub fn const_cross(l: DVec3, r: &Self) -> Self {
-        Self {
-            x: r.z * l.y - r.y * l.z,
-            y: r.x * l.z - r.z * l.x,
-            z: r.y * l.x - r.x * l.y,
-        }
-    }
-
-    /// The dot product (as `DVec3::dot`).
-    #[inline(always)]
-    #[must_use]
-    pub fn dot(&self, r: &Self) -> Lanes<L> {
-        (self.x * r.x) + (self.y * r.y) + (self.z * r.z)
     }
 }
 
@@ -434,84 +355,23 @@ impl<const L: usize> LMat3<L> {
         self.y_axis.set_lane(l, m.y_axis);
         self.z_axis.set_lane(l, m.z_axis);
     }
-
-    /// Column `k`.
-    #[inline(always)]
-    #[must_use]
-    pub fn col(&self, k: usize) -> LVec3<L> {
-        match k {
-            0 => self.x_axis,
-            1 => self.y_axis,
-            _ => self.z_axis,
-        }
-    }
-
-    /// `self · v` (as `DMat3 * DVec3`).
-    #[inline(always)]
-    #[must_use]
-    pub fn mul_vec(&self, v: &LVec3<L>) -> LVec3<L> {
-        self.x_axis.scale(v.x) + self.y_axis.scale(v.y) + self.z_axis.scale(v.z)
-    }
-
-    /// `self · v` for a constant `v`.
-    #[inline(always)]
-    #[must_use]
-    pub fn mul_const_vec(&self, v: DVec3) -> LVec3<L> {
-        self.x_axis.scale_by(v.x) + self.y_axis.scale_by(v.y) + self.z_axis.scale_by(v.z)
-    }
-
-    /// `selfᵀ · v` as three dot products (as `Se3::inverse_transform_vector`).
-    #[inline(always)]
-    #[must_use]
-    pub fn transpose_mul_vec(&self, v: &LVec3<L>) -> LVec3<L> {
-        LVec3 {
-            x: self.x_axis.dot(v),
-            y: self.y_axis.dot(v),
-            z: self.z_axis.dot(v),
-        }
-    }
-
-    /// `self · m` (as `DMat3 * DMat3`).
-    #[inline(always)]
-    #[must_use]
-    pub fn mul_mat(&self, m: &Self) -> Self {
-        Self {
-            x_axis: self.mul_vec(&m.x_axis),
-            y_axis: self.mul_vec(&m.y_axis),
-            z_axis: self.mul_vec(&m.z_axis),
-        }
-    }
-
-    /// `self · m` for a constant `m`.
-    #[inline(always)]
-    #[must_use]
-    pub fn mul_const_mat(&self, m: &DMat3) -> Self {
-        Self {
-            x_axis: self.mul_const_vec(m.x_axis),
-            y_axis: self.mul_const_vec(m.y_axis),
-            z_axis: self.mul_const_vec(m.z_axis),
-        }
-    }
 }
 
-/// A rigid transform per lane (the lane form of [`Se3`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LSe3<const L: usize> {
-    /// The rotations.
-    pub rotation: LMat3<L>,
-    /// The translations.
-    pub translation: LVec3<L>,
-}
+/// A rigid transform per lane: [`Se3`] over lanes.
+pub type LSe3<const L: usize> = Se3<Lanes<L>>;
 
-impl<const L: usize> LSe3<L> {
+/// A spatial motion per lane: [`Motion`] over lanes.
+pub type LMotion<const L: usize> = Motion<Lanes<L>>;
+
+/// A spatial force per lane: [`Force`] over lanes.
+pub type LForce<const L: usize> = Force<Lanes<L>>;
+
+impl<const L: usize> Se3<Lanes<L>> {
     /// `x` in every lane.
     #[inline(always)]
     #[must_use]
     pub fn splat(x: &Se3) -> Self {
-        Self {
-            rotation: LMat3::splat(&x.rotation),
-            translation: LVec3::splat(x.translation),
-        }
+        Self::from_const(x)
     }
 
     /// Lane `l`.
@@ -527,80 +387,11 @@ impl<const L: usize> LSe3<L> {
         self.rotation.set_lane(l, &x.rotation);
         self.translation.set_lane(l, x.translation);
     }
-
-    /// Composition `self * o` (as `Se3 * Se3`).
-    #[inline(always)]
-    #[must_use]
-    pub fn mul(&self, o: &Self) -> Self {
-        Self {
-            rotation: self.rotation.mul_mat(&o.rotation),
-            translation: self.rotation.mul_vec(&o.translation) + self.translation,
-        }
-    }
-
-    /// Composition `self * o` with a constant `o`.
-    #[inline(always)]
-    #[must_use]
-    pub fn mul_const(&self, o: &Se3) -> Self {
-        Self {
-            rotation: self.rotation.mul_const_mat(&o.rotation),
-            translation: self.rotation.mul_const_vec(o.translation) + self.translation,
-        }
-    }
-
-    /// As [`Se3::act_motion`].
-    #[inline(always)]
-    #[must_use]
-    pub fn act_motion(&self, m: &LMotion<L>) -> LMotion<L> {
-        let w = self.rotation.mul_vec(&m.angular);
-        LMotion {
-            linear: self.rotation.mul_vec(&m.linear) + self.translation.cross(&w),
-            angular: w,
-        }
-    }
-
-    /// As [`Se3::act_inv_motion`].
-    #[inline(always)]
-    #[must_use]
-    pub fn act_inv_motion(&self, m: &LMotion<L>) -> LMotion<L> {
-        LMotion {
-            linear: self
-                .rotation
-                .transpose_mul_vec(&(m.linear - self.translation.cross(&m.angular))),
-            angular: self.rotation.transpose_mul_vec(&m.angular),
-        }
-    }
-
-    /// As [`Se3::act_force`].
-    #[inline(always)]
-    #[must_use]
-    pub fn act_force(&self, f: &LForce<L>) -> LForce<L> {
-        let lin = self.rotation.mul_vec(&f.linear);
-        LForce {
-            linear: lin,
-            angular: self.rotation.mul_vec(&f.angular) + self.translation.cross(&lin),
-        }
-    }
 }
 
 macro_rules! lane_spatial {
-    ($t:ident, $s:ident, $what:literal) => {
-        #[doc = concat!("A ", $what, " per lane (the lane form of [`", stringify!($s), "`]).")]
-        #[derive(Clone, Copy, Debug, Default, PartialEq)]
-        pub struct $t<const L: usize> {
-            /// The linear parts.
-            pub linear: LVec3<L>,
-            /// The angular parts.
-            pub angular: LVec3<L>,
-        }
-
-        impl<const L: usize> $t<L> {
-            /// Zero in every lane.
-            pub const ZERO: Self = Self {
-                linear: LVec3::ZERO,
-                angular: LVec3::ZERO,
-            };
-
+    ($s:ident) => {
+        impl<const L: usize> $s<Lanes<L>> {
             /// `x` in every lane.
             #[inline(always)]
             #[must_use]
@@ -624,144 +415,17 @@ macro_rules! lane_spatial {
                 self.linear.set_lane(l, x.linear);
                 self.angular.set_lane(l, x.angular);
             }
-
-            /// Every coordinate times the lane's `s`.
-            #[inline(always)]
-            #[must_use]
-            pub fn scale(&self, s: Lanes<L>) -> Self {
-                Self {
-                    linear: self.linear.scale(s),
-                    angular: self.angular.scale(s),
-                }
-            }
-        }
-
-        impl<const L: usize> Add for $t<L> {
-            type Output = Self;
-            #[inline(always)]
-            fn add(self, o: Self) -> Self {
-                Self {
-                    linear: self.linear + o.linear,
-                    angular: self.angular + o.angular,
-                }
-            }
-        }
-
-        impl<const L: usize> Sub for $t<L> {
-            type Output = Self;
-            #[inline(always)]
-            fn sub(self, o: Self) -> Self {
-                Self {
-                    linear: self.linear - o.linear,
-                    angular: self.angular - o.angular,
-                }
-            }
-        }
-
-        impl<const L: usize> AddAssign for $t<L> {
-            #[inline(always)]
-            fn add_assign(&mut self, o: Self) {
-                *self = *self + o;
-            }
-        }
-
-        impl<const L: usize> SubAssign for $t<L> {
-            #[inline(always)]
-            fn sub_assign(&mut self, o: Self) {
-                *self = *self - o;
-            }
         }
     };
 }
 
-lane_spatial!(LMotion, Motion, "spatial motion");
-lane_spatial!(LForce, Force, "spatial force");
-
-impl<const L: usize> LMotion<L> {
-    /// As [`Motion::cross_motion`].
-    #[inline(always)]
-    #[must_use]
-    pub fn cross_motion(&self, m: &Self) -> Self {
-        Self {
-            linear: self.angular.cross(&m.linear) + self.linear.cross(&m.angular),
-            angular: self.angular.cross(&m.angular),
-        }
-    }
-
-    /// As [`Motion::cross_force`].
-    #[inline(always)]
-    #[must_use]
-    pub fn cross_force(&self, f: &LForce<L>) -> LForce<L> {
-        LForce {
-            linear: self.angular.cross(&f.linear),
-            angular: self.angular.cross(&f.angular) + self.linear.cross(&f.linear),
-        }
-    }
-
-    /// As [`Motion::dot`].
-    #[inline(always)]
-    #[must_use]
-    pub fn dot(&self, f: &LForce<L>) -> Lanes<L> {
-        self.linear.dot(&f.linear) + self.angular.dot(&f.angular)
-    }
-}
-
-/// `i · v` for a constant symmetric `i` (as [`Symmetric3::mul_vec3`]).
-#[inline(always)]
-#[must_use]
-pub fn sym_mul_vec<const L: usize>(i: &Symmetric3, v: &LVec3<L>) -> LVec3<L> {
-    LVec3 {
-        x: v.x * i.xx + v.y * i.xy + v.z * i.xz,
-        y: v.x * i.xy + v.y * i.yy + v.z * i.yz,
-        z: v.x * i.xz + v.y * i.yz + v.z * i.zz,
-    }
-}
-
-/// The momentum `y · s` of a constant inertia (as [`OriginInertia::mul_motion`]).
-#[inline(always)]
-#[must_use]
-pub fn inertia_mul_motion<const L: usize>(y: &OriginInertia, s: &LMotion<L>) -> LForce<L> {
-    LForce {
-        linear: s.linear.scale_by(y.m) + s.angular.cross_const(y.h),
-        angular: LVec3::const_cross(y.h, &s.linear) + sym_mul_vec(&y.i, &s.angular),
-    }
-}
-
-/// The momentum `inertia · v` of a constant rigid-body inertia (as [`Inertia::mul_motion`]).
-#[inline(always)]
-#[must_use]
-pub fn rigid_mul_motion<const L: usize>(inertia: &Inertia, v: &LMotion<L>) -> LForce<L> {
-    let lin = (v.linear + v.angular.cross_const(inertia.com)).scale_by(inertia.mass);
-    LForce {
-        linear: lin,
-        angular: LVec3::const_cross(inertia.com, &lin)
-            + sym_mul_vec(&inertia.rotational, &v.angular),
-    }
-}
-
-/// The net force `inertia·a + v ×* (inertia·v)` of a constant rigid-body inertia (as
-/// [`Inertia::rnea_force`]).
-#[inline(always)]
-#[must_use]
-pub fn rigid_rnea_force<const L: usize>(
-    inertia: &Inertia,
-    v: &LMotion<L>,
-    a: &LMotion<L>,
-) -> LForce<L> {
-    let w = &v.angular;
-    let p = (v.linear + w.cross_const(inertia.com)).scale_by(inertia.mass);
-    let lin = (a.linear + a.angular.cross_const(inertia.com)).scale_by(inertia.mass) + w.cross(&p);
-    LForce {
-        linear: lin,
-        angular: LVec3::const_cross(inertia.com, &lin)
-            + sym_mul_vec(&inertia.rotational, &a.angular)
-            + w.cross(&sym_mul_vec(&inertia.rotational, w)),
-    }
-}
+lane_spatial!(Motion);
+lane_spatial!(Force);
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::real::{Matrix3, Vector3};
 
     fn se3s() -> [Se3; 4] {
         [
@@ -797,7 +461,7 @@ mod tests {
         );
         let inertia = OriginInertia::from_inertia(&rigid);
         for l in 0..4 {
-            assert_eq!(lx.mul(&ly).lane(l), xs[l] * ys[l]);
+            assert_eq!(lx.compose(&ly).lane(l), xs[l] * ys[l]);
             assert_eq!(lx.mul_const(&ys[1]).lane(l), xs[l] * ys[1]);
             assert_eq!(lx.act_motion(&lm).lane(l), xs[l].act_motion(&ms[l]));
             assert_eq!(lx.act_inv_motion(&lm).lane(l), xs[l].act_inv_motion(&ms[l]));
@@ -805,21 +469,15 @@ mod tests {
             assert_eq!(lm.cross_motion(&lm).lane(l), ms[l].cross_motion(&ms[l]));
             assert_eq!(lm.cross_force(&lf).lane(l), ms[l].cross_force(&fs[l]));
             assert_eq!(lm.dot(&lf).0[l], ms[l].dot(&fs[l]));
-            assert_eq!(
-                inertia_mul_motion(&inertia, &lm).lane(l),
-                inertia.mul_motion(&ms[l])
-            );
-            assert_eq!(
-                rigid_mul_motion(&rigid, &lm).lane(l),
-                rigid.mul_motion(&ms[l])
-            );
+            assert_eq!(inertia.mul_motion(&lm).lane(l), inertia.mul_motion(&ms[l]));
+            assert_eq!(rigid.mul_motion(&lm).lane(l), rigid.mul_motion(&ms[l]));
             let lm2 = LMotion {
                 linear: lf.angular,
                 angular: lf.linear,
             };
             let m2 = Motion::new(fs[l].angular, fs[l].linear);
             assert_eq!(
-                rigid_rnea_force(&rigid, &lm, &lm2).lane(l),
+                rigid.rnea_force(&lm, &lm2).lane(l),
                 rigid.rnea_force(&ms[l], &m2)
             );
             let v = lm.linear;

@@ -1,8 +1,13 @@
 //! # kinetree-spatial
 //!
 //! The bottom layer of kinetree: rigid transforms ([`Se3`]), rotations, 6D motion and force
-//! vectors ([`Motion`], [`Force`]) and spatial inertias ([`Inertia`], [`Symmetric3`]), all in `f64`
-//! on top of glam. Every other layer computes with these types; none of them allocates.
+//! vectors ([`Motion`], [`Force`]) and spatial inertias ([`Inertia`], [`Symmetric3`]) on top of
+//! glam. Every other layer computes with these types; none of them allocates.
+//!
+//! [`Se3`], [`Motion`] and [`Force`] are generic over their number type ([`Real`], `f64` by
+//! default): the same type and the same code hold one state (`Se3` is glam's `DMat3` and
+//! `DVec3`) or `L` states side by side in SIMD lanes ([`lanes`]), so that every algorithm of the
+//! layers above is written once for both.
 //!
 //! The kernels of the body sweeps live here too, so that kinematics and dynamics share them:
 //! [`OriginInertia`] (the composite-inertia form), [`RotationForm`] (rotations about a coordinate
@@ -47,6 +52,8 @@
 //! - The kernels the body sweeps share: `origin_inertia` ([`OriginInertia`]), `rotation_form`
 //!   ([`RotationForm`]) and [`axis`] (cross products with a coordinate axis).
 //! - `readable`: [`Readable`], numbers in messages (scientific notation when huge or tiny).
+//! - [`real`]: [`Real`], the number types the spatial types and the algorithms are generic over
+//!   (`f64` for one state, [`lanes::Lanes`] for a block of states), and the fast `sin_cos`.
 
 pub mod axis;
 pub mod explog;
@@ -55,6 +62,7 @@ pub mod lanes;
 mod motion;
 mod origin_inertia;
 mod readable;
+pub mod real;
 pub mod rotation;
 mod rotation_form;
 mod se3;
@@ -66,6 +74,7 @@ pub use inertia::Inertia;
 pub use motion::{Force, Motion};
 pub use origin_inertia::OriginInertia;
 pub use readable::Readable;
+pub use real::Real;
 pub use rotation_form::RotationForm;
 pub use se3::Se3;
 pub use symmetric3::{InertiaDefect, Symmetric3};

@@ -1,32 +1,53 @@
 //! Spatial motion vectors (twists) and force vectors (wrenches), ordered `[linear; angular]`.
 
+use crate::real::{Real, Vector3};
 use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 use glam::DVec3;
 
 /// A spatial motion vector (twist): the linear velocity of the point at the frame origin and the
 /// angular velocity, both expressed in the frame's axes. Ordered `[linear; angular]`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+///
+/// Generic over its number type ([`Real`]): `Motion` is `Motion<f64>`, and `Motion<Lanes<L>>`
+/// holds `L` motions side by side.
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "T::V3: serde::Serialize",
+        deserialize = "T::V3: serde::Deserialize<'de>"
+    ))
+)]
 #[doc(alias = "Twist")]
 // `repr(C)`: six `f64` in field order, which the batched kernels store whole.
 #[repr(C)]
-pub struct Motion {
+pub struct Motion<T: Real = f64> {
     /// Linear part: velocity of the point at the frame origin.
-    pub linear: DVec3,
+    pub linear: T::V3,
     /// Angular part: angular velocity.
-    pub angular: DVec3,
+    pub angular: T::V3,
 }
 
 /// A spatial force vector (wrench): the force and the moment about the frame origin, both
 /// expressed in the frame's axes. Ordered `[linear; angular]` = `[force; torque]`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+///
+/// Generic over its number type as [`Motion`] is.
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "T::V3: serde::Serialize",
+        deserialize = "T::V3: serde::Deserialize<'de>"
+    ))
+)]
 #[doc(alias = "Wrench")]
-pub struct Force {
+#[repr(C)]
+pub struct Force<T: Real = f64> {
     /// Linear part: the force.
-    pub linear: DVec3,
+    pub linear: T::V3,
     /// Angular part: the moment about the frame origin.
-    pub angular: DVec3,
+    pub angular: T::V3,
 }
 
 macro_rules! spatial_vector_common {
@@ -110,46 +131,87 @@ macro_rules! spatial_vector_common {
             }
         }
 
-        impl Add for $t {
-            type Output = Self;
-            #[inline]
-            fn add(self, o: Self) -> Self {
-                Self::new(self.linear + o.linear, self.angular + o.angular)
+        impl<T: Real> Default for $t<T> {
+            #[inline(always)]
+            fn default() -> Self {
+                Self::zero()
             }
         }
-        impl AddAssign for $t {
-            #[inline]
+
+        impl<T: Real> $t<T> {
+            /// The zero vector (for every number type; `ZERO` is the `f64` one).
+            #[inline(always)]
+            #[must_use]
+            pub fn zero() -> Self {
+                Self {
+                    linear: T::V3::ZERO,
+                    angular: T::V3::ZERO,
+                }
+            }
+
+            /// Every coordinate times `s`.
+            #[inline(always)]
+            #[must_use]
+            pub fn scale(&self, s: T) -> Self {
+                Self {
+                    linear: self.linear.scale(s),
+                    angular: self.angular.scale(s),
+                }
+            }
+        }
+
+        impl<T: Real> Add for $t<T> {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, o: Self) -> Self {
+                Self {
+                    linear: self.linear + o.linear,
+                    angular: self.angular + o.angular,
+                }
+            }
+        }
+        impl<T: Real> AddAssign for $t<T> {
+            #[inline(always)]
             fn add_assign(&mut self, o: Self) {
                 self.linear += o.linear;
                 self.angular += o.angular;
             }
         }
-        impl Sub for $t {
+        impl<T: Real> Sub for $t<T> {
             type Output = Self;
-            #[inline]
+            #[inline(always)]
             fn sub(self, o: Self) -> Self {
-                Self::new(self.linear - o.linear, self.angular - o.angular)
+                Self {
+                    linear: self.linear - o.linear,
+                    angular: self.angular - o.angular,
+                }
             }
         }
-        impl SubAssign for $t {
-            #[inline]
+        impl<T: Real> SubAssign for $t<T> {
+            #[inline(always)]
             fn sub_assign(&mut self, o: Self) {
                 self.linear -= o.linear;
                 self.angular -= o.angular;
             }
         }
-        impl Neg for $t {
+        impl<T: Real> Neg for $t<T> {
             type Output = Self;
-            #[inline]
+            #[inline(always)]
             fn neg(self) -> Self {
-                Self::new(-self.linear, -self.angular)
+                Self {
+                    linear: -self.linear,
+                    angular: -self.angular,
+                }
             }
         }
-        impl Mul<f64> for $t {
+        impl<T: Real> Mul<f64> for $t<T> {
             type Output = Self;
-            #[inline]
+            #[inline(always)]
             fn mul(self, s: f64) -> Self {
-                Self::new(self.linear * s, self.angular * s)
+                Self {
+                    linear: self.linear.scale_by(s),
+                    angular: self.angular.scale_by(s),
+                }
             }
         }
         impl Mul<$t> for f64 {
@@ -165,38 +227,40 @@ macro_rules! spatial_vector_common {
 spatial_vector_common!(Motion);
 spatial_vector_common!(Force);
 
-impl Motion {
+impl<T: Real> Motion<T> {
     /// The spatial cross product with a motion, `self ×ₘ m` (Featherstone's `crm(self) · m`):
     /// the rate of change of `m` when it moves with velocity `self`.
-    #[inline]
+    #[inline(always)]
     #[must_use]
     #[doc(alias = "crm")]
-    pub fn cross_motion(&self, m: &Motion) -> Motion {
-        Motion::new(
-            self.angular.cross(m.linear) + self.linear.cross(m.angular),
-            self.angular.cross(m.angular),
-        )
+    pub fn cross_motion(&self, m: &Self) -> Self {
+        Motion {
+            linear: self.angular.cross(&m.linear) + self.linear.cross(&m.angular),
+            angular: self.angular.cross(&m.angular),
+        }
     }
 
     /// The spatial cross product with a force, `self ×* f` (Featherstone's `crf(self) · f`,
     /// with `crf(v) = -crm(v)ᵀ`).
-    #[inline]
+    #[inline(always)]
     #[must_use]
     #[doc(alias = "crf")]
-    pub fn cross_force(&self, f: &Force) -> Force {
-        Force::new(
-            self.angular.cross(f.linear),
-            self.angular.cross(f.angular) + self.linear.cross(f.linear),
-        )
+    pub fn cross_force(&self, f: &Force<T>) -> Force<T> {
+        Force {
+            linear: self.angular.cross(&f.linear),
+            angular: self.angular.cross(&f.angular) + self.linear.cross(&f.linear),
+        }
     }
 
     /// The power `f · self` delivered by a force acting along this motion.
-    #[inline]
+    #[inline(always)]
     #[must_use]
-    pub fn dot(&self, f: &Force) -> f64 {
-        self.linear.dot(f.linear) + self.angular.dot(f.angular)
+    pub fn dot(&self, f: &Force<T>) -> T {
+        self.linear.dot(&f.linear) + self.angular.dot(&f.angular)
     }
+}
 
+impl Motion {
     /// The 6x6 matrix `crm(self)` in `[linear; angular]` order, row-major.
     #[must_use]
     pub fn to_cross_motion_matrix(&self) -> [[f64; 6]; 6] {
@@ -227,11 +291,11 @@ impl Motion {
     }
 }
 
-impl Force {
+impl<T: Real> Force<T> {
     /// The power `self · m` delivered along a motion.
-    #[inline]
+    #[inline(always)]
     #[must_use]
-    pub fn dot(&self, m: &Motion) -> f64 {
+    pub fn dot(&self, m: &Motion<T>) -> T {
         m.dot(self)
     }
 }

@@ -1,5 +1,6 @@
 //! [`OriginInertia`]: a spatial inertia about the frame origin, the form of composite inertias.
 
+use crate::real::{Real, Vector3};
 use crate::{Force, Inertia, Motion, RotationForm, Symmetric3};
 use glam::DVec3;
 
@@ -55,11 +56,11 @@ impl OriginInertia {
     /// The momentum `I·s` of a motion `s` (`[linear; angular]`).
     #[inline(always)]
     #[must_use]
-    pub fn mul_motion(&self, s: &Motion) -> Force {
-        Force::new(
-            s.linear * self.m + s.angular.cross(self.h),
-            self.h.cross(s.linear) + self.i.mul_vec3(s.angular),
-        )
+    pub fn mul_motion<T: Real>(&self, s: &Motion<T>) -> Force<T> {
+        Force {
+            linear: s.linear.scale_by(self.m) + s.angular.cross_const(self.h),
+            angular: T::V3::const_cross(self.h, &s.linear) + self.i.mul_vector::<T>(&s.angular),
+        }
     }
 
     /// The same inertia expressed about a frame whose origin is at `-t` in this frame's axes (a

@@ -1,5 +1,6 @@
 //! Symmetric 3x3 matrices, used for rotational inertia tensors.
 
+use crate::real::{Real, Vector3};
 use core::fmt;
 use core::ops::{Add, AddAssign, Mul, Sub};
 use glam::{DMat3, DVec3};
@@ -235,10 +236,19 @@ impl Symmetric3 {
     #[inline]
     #[must_use]
     pub fn mul_vec3(&self, v: DVec3) -> DVec3 {
-        DVec3::new(
-            self.xx * v.x + self.xy * v.y + self.xz * v.z,
-            self.xy * v.x + self.yy * v.y + self.yz * v.z,
-            self.xz * v.x + self.yz * v.y + self.zz * v.z,
+        self.mul_vector::<f64>(&v)
+    }
+
+    /// The product with a vector of any number type ([`Real`]; [`Symmetric3::mul_vec3`] is
+    /// the `f64` one).
+    #[inline(always)]
+    #[must_use]
+    pub fn mul_vector<T: Real>(&self, v: &T::V3) -> T::V3 {
+        let (x, y, z) = (v.get(0), v.get(1), v.get(2));
+        T::V3::new(
+            x * self.xx + y * self.xy + z * self.xz,
+            x * self.xy + y * self.yy + z * self.yz,
+            x * self.xz + y * self.yz + z * self.zz,
         )
     }
 

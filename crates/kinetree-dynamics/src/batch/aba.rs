@@ -11,6 +11,7 @@ use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, LaneVec, Lanes};
+use kinetree_kinematics::spatial::real::{Matrix3 as _, Vector3 as _};
 
 /// The per-body and per-coordinate lane buffers of ABA for one lane width.
 #[derive(Clone, Debug, Default)]
@@ -43,13 +44,13 @@ impl<const L: usize> AbaLanes<L> {
             tau: vec![Lanes::ZERO; nv8],
             ddq: vec![Lanes::ZERO; nv8],
             world_from_body: LaneVec::new(LSe3::default(), nb),
-            velocity: LaneVec::new(LMotion::ZERO, nb),
-            bias: LaneVec::new(LMotion::ZERO, nb),
+            velocity: LaneVec::new(LMotion::zero(), nb),
+            bias: LaneVec::new(LMotion::zero(), nb),
             articulated: LaneVec::new(LArticulated::default(), nb),
-            force: LaneVec::new(LForce::ZERO, nb),
-            acceleration: LaneVec::new(LMotion::ZERO, nb),
-            subspace: LaneVec::new(LMotion::ZERO, nv),
-            u_columns: LaneVec::new(LForce::ZERO, nv),
+            force: LaneVec::new(LForce::zero(), nb),
+            acceleration: LaneVec::new(LMotion::zero(), nb),
+            subspace: LaneVec::new(LMotion::zero(), nv),
+            u_columns: LaneVec::new(LForce::zero(), nv),
             u: vec![Lanes::ZERO; nv],
             dinv: vec![Lanes::ZERO; data.dinv.len()],
         }
@@ -185,17 +186,17 @@ pub(crate) fn aba<const L: usize>(
             let world = if p == 0 {
                 x
             } else {
-                bufs.world_from_body[p].mul(&x)
+                bufs.world_from_body[p].compose(&x)
             };
             bufs.world_from_body[i] = world;
-            let mut vj = LMotion::ZERO;
+            let mut vj = LMotion::zero();
             for k in 0..b.nv {
                 let s = world_column(jm, &world, k);
                 bufs.subspace[b.idx_v + k] = s;
                 vj += s.scale(bufs.v[b.idx_v + k]);
             }
             let (vi, ci) = if p == 0 {
-                (vj, LMotion::ZERO)
+                (vj, LMotion::zero())
             } else {
                 let vp = bufs.velocity[p];
                 (vp + vj, vp.cross_motion(&vj))
@@ -273,7 +274,7 @@ pub(crate) fn aba<const L: usize>(
                     let mut ia = ia;
                     let mut pa = pa;
                     for k in 0..ni {
-                        let mut w = LForce::ZERO;
+                        let mut w = LForce::zero();
                         let mut du = Lanes::ZERO;
                         for l in 0..ni {
                             w += bufs.u_columns[iv + l].scale(dinv[k * ni + l]);
@@ -305,7 +306,7 @@ pub(crate) fn aba<const L: usize>(
                 for k in 0..ni {
                     r[k] = bufs.u[iv + k] - ai.dot(&bufs.u_columns[iv + k]);
                 }
-                let mut da = LMotion::ZERO;
+                let mut da = LMotion::zero();
                 for k in 0..ni {
                     let mut qdd = Lanes::ZERO;
                     for l in 0..ni {

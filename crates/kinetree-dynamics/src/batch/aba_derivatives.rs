@@ -16,6 +16,7 @@ use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::Motion;
 use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LVec3, LaneVec, Lanes};
+use kinetree_kinematics::spatial::real::{Matrix3 as _, Vector3 as _};
 
 /// A symmetric 6x6 inertia in world coordinates in lanes, in 3x3 blocks `[[a, b], [bᵀ, c]]`
 /// (the lane form of `derivatives::data::Articulated`, its arithmetic in the same order).
@@ -126,10 +127,10 @@ impl<const L: usize> AbaDerivativesLanes<L> {
             .flat_map(|k| [k, k + half])
             .collect();
         Self {
-            bias: LaneVec::new(LMotion::ZERO, nb),
+            bias: LaneVec::new(LMotion::zero(), nb),
             articulated: LaneVec::new(LArticulated::default(), nb),
-            articulated_force: LaneVec::new(LForce::ZERO, nb),
-            u_column: LaneVec::new(LForce::ZERO, nv),
+            articulated_force: LaneVec::new(LForce::zero(), nb),
+            u_column: LaneVec::new(LForce::zero(), nv),
             pivot_inverse: x(nv),
             u: x(nv),
             ddq: x(nv),
@@ -176,7 +177,7 @@ fn articulated<const L: usize>(
     let factor = &mut bufs.solve.factor;
     let mut singular = [false; L];
     bufs.articulated.fill(LArticulated::default());
-    bufs.articulated_force.fill(LForce::ZERO);
+    bufs.articulated_force.fill(LForce::zero());
     for i in (1..bodies.len()).rev() {
         let b = &bodies[i];
         let mut ia = bufs.articulated[i];

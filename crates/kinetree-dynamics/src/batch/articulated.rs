@@ -3,6 +3,7 @@
 //! bit).
 
 use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LVec3, Lanes};
+use kinetree_kinematics::spatial::real::{Matrix3 as _, Vector3 as _};
 use kinetree_kinematics::spatial::{Inertia, Symmetric3};
 
 /// A symmetric 3x3 matrix per lane (the lane form of [`Symmetric3`]).
@@ -241,7 +242,7 @@ mod tests {
             Symmetric3::new(0.4, 0.01, -0.02, 0.5, 0.03, 0.6),
         );
         let mut lx = LSe3::<4>::default();
-        let (mut lm, mut lf) = (LMotion::<4>::ZERO, LForce::<4>::ZERO);
+        let (mut lm, mut lf) = (LMotion::<4>::zero(), LForce::<4>::zero());
         let ms = xs.map(|x| Motion::new(x.translation, x.rotation.y_axis * 1.3));
         let fs = xs.map(|x| Force::new(x.rotation.z_axis, x.translation * -0.7));
         for l in 0..4 {

@@ -4,6 +4,7 @@
 
 use super::articulated::LSym3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LVec3, Lanes};
+use kinetree_kinematics::spatial::real::{Matrix3 as _, Vector3 as _};
 use kinetree_kinematics::spatial::{OriginInertia, RotationForm, Symmetric3};
 
 impl<const L: usize> LSym3<L> {
@@ -274,7 +275,7 @@ mod tests {
         let mut rot = LMat3::<4>::default();
         let mut t = LVec3::<4>::ZERO;
         let (mut s, mut c) = (Lanes::<4>::ZERO, Lanes::<4>::ZERO);
-        let mut m = LMotion::<4>::ZERO;
+        let mut m = LMotion::<4>::zero();
         for l in 0..4 {
             rot.set_lane(l, &xs[l].rotation);
             t.set_lane(l, xs[l].translation);

@@ -3,14 +3,12 @@
 //! one-state result bit for bit.
 
 use super::composite::{LOrigin, LRotation};
-use super::rnea::copy_se3;
 use crate::data::{AncestorStep, DynamicsData};
-use kinetree_kinematics::JointModel;
 use kinetree_kinematics::batch::{Io, block_states, body_transform, revolute_axis_transform};
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::RotationForm;
-use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMotion, LSe3, LVec3, LaneVec, Lanes};
+use kinetree_kinematics::spatial::real::Vector3 as _;
 
 /// The largest `nv²` whose block of matrices is assembled in lanes and written through the
 /// transposes (nv ≤ 64: at most 256 KiB of 8-lane buffer per workspace); larger models write
@@ -157,53 +155,6 @@ fn axis_component_of<const L: usize>(x: &LSe3<L>, f: &LForce<L>, c: u8) -> Lanes
         3 => axis_component::<L, 3>(x, f),
         4 => axis_component::<L, 4>(x, f),
         _ => axis_component::<L, 5>(x, f),
-    }
-}
-
-/// `Sᵀ·f` of any joint into `out[..nv]`, as [`JointModel::project_force`] does it lane by lane
-/// (the same products and sums in the same order), in lane vectors for every kind but those
-/// without a degree of freedom.
-#[inline(always)]
-pub(crate) fn project_force<const L: usize>(
-    jm: &JointModel,
-    f: &LForce<L>,
-    out: &mut [Lanes<L>; 6],
-) {
-    let dot = |a: DVec3, x: &LVec3<L>| LVec3::splat(a).dot(x);
-    match *jm {
-        JointModel::Fixed => {}
-        JointModel::RevoluteX => out[0] = f.angular.x,
-        JointModel::RevoluteY => out[0] = f.angular.y,
-        JointModel::RevoluteZ => out[0] = f.angular.z,
-        JointModel::Revolute(a) => out[0] = dot(a, &f.angular),
-        JointModel::PrismaticX => out[0] = f.linear.x,
-        JointModel::PrismaticY => out[0] = f.linear.y,
-        JointModel::PrismaticZ => out[0] = f.linear.z,
-        JointModel::Prismatic(a) => out[0] = dot(a, &f.linear),
-        JointModel::Cylindrical(a) => {
-            out[0] = dot(a, &f.linear);
-            out[1] = dot(a, &f.angular);
-        }
-        JointModel::Spherical => {
-            out[0] = f.angular.x;
-            out[1] = f.angular.y;
-            out[2] = f.angular.z;
-        }
-        JointModel::Planar { u, w, n } => {
-            out[0] = dot(u, &f.linear);
-            out[1] = dot(w, &f.linear);
-            out[2] = dot(n, &f.angular);
-        }
-        JointModel::Floating => {
-            *out = [
-                f.linear.x,
-                f.linear.y,
-                f.linear.z,
-                f.angular.x,
-                f.angular.y,
-                f.angular.z,
-            ];
-        }
     }
 }
 
@@ -354,7 +305,7 @@ pub(crate) fn crba<const L: usize>(
     let steps = &data.ancestor_step[..];
     // Scratch for multi-DoF joints, each entry written before it is read (zeroed once, not per
     // block: the per-block zeroing was a `memset` of 2.7 KiB at 8 lanes).
-    let mut f = [LForce::ZERO; 6];
+    let mut f = [LForce::zero(); 6];
     let mut col = [Lanes::ZERO; 6];
     for start in (0..n).step_by(L) {
         let idx = block_states::<L>(start, n);
@@ -367,12 +318,12 @@ pub(crate) fn crba<const L: usize>(
             bufs.joint_rot[i] = match jm.axis_index() {
                 Some((k, true)) => {
                     let (x, s, c) = revolute_axis_transform(k, b, q, nq, &idx);
-                    copy_se3(&mut bufs.parent_from_body[i], &x);
+                    bufs.parent_from_body[i].assign(&x);
                     LRotation::Axis { k, s, c }
                 }
                 _ => {
                     let x = body_transform(jm, b, q, nq, &idx);
-                    copy_se3(&mut bufs.parent_from_body[i], &x);
+                    bufs.parent_from_body[i].assign(&x);
                     LRotation::Identity
                 }
             };
@@ -401,7 +352,7 @@ pub(crate) fn crba<const L: usize>(
                         f[k] = ic.mul_motion(&LMotion::splat(&jm.subspace_column(k)));
                     }
                     for k in 0..ni {
-                        project_force(jm, &f[k], &mut col);
+                        jm.project_force(&f[k], &mut col);
                         for l in k..ni {
                             sink.put(col[l]);
                         }
@@ -433,7 +384,7 @@ pub(crate) fn crba<const L: usize>(
                         sink.put(x);
                     } else {
                         let nj = bodies[j].nv;
-                        project_force(&joint_models[j], &fk, &mut col);
+                        joint_models[j].project_force(&fk, &mut col);
                         for l in 0..nj {
                             sink.put(col[l]);
                         }
@@ -452,7 +403,7 @@ pub(crate) fn crba<const L: usize>(
                     j = p;
                     let nj = bodies[j].nv;
                     for k in 0..ni {
-                        project_force(&joint_models[j], &f[k], &mut col);
+                        joint_models[j].project_force(&f[k], &mut col);
                         for l in 0..nj {
                             sink.put(col[l]);
                         }

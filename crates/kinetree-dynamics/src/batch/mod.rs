@@ -64,7 +64,7 @@ struct BatchLanes<const L: usize> {
 impl<const L: usize> BatchLanes<L> {
     fn new(model: &Model, data: &DynamicsData) -> Self {
         Self {
-            rnea: RneaLanes::new(model, data),
+            rnea: RneaLanes::new(model),
             aba: AbaLanes::new(model, data),
             crba: CrbaLanes::new(model),
         }

@@ -8,6 +8,7 @@ use kinetree_kinematics::batch::{body_transform, gather};
 use kinetree_kinematics::model::{Body, Model};
 use kinetree_kinematics::spatial::glam::DVec3;
 use kinetree_kinematics::spatial::lanes::{LForce, LMat3, LMotion, LSe3, LVec3, LaneVec, Lanes};
+use kinetree_kinematics::spatial::real::{Matrix3 as _, Vector3 as _};
 use kinetree_kinematics::spatial::{Inertia, Motion};
 
 /// `a + b`, entry by entry.
@@ -285,8 +286,8 @@ impl<const L: usize> Sink<L> for LaneSink<'_, L> {
 impl<const L: usize> RneaDerivativesLanes<L> {
     pub(crate) fn new(model: &Model) -> Self {
         let (nb, nv) = (model.nbodies(), model.nv());
-        let m = |n| LaneVec::new(LMotion::ZERO, n);
-        let f = |n| LaneVec::new(LForce::ZERO, n);
+        let m = |n| LaneVec::new(LMotion::zero(), n);
+        let f = |n| LaneVec::new(LForce::zero(), n);
         let x = |n| vec![Lanes::ZERO; n];
         Self {
             world_from_body: LaneVec::new(LSe3::default(), nb),
@@ -369,12 +370,12 @@ pub(crate) fn velocity_body<const L: usize>(
     let x = body_transform(jm, b, q, nq, idx);
     let p = b.parent;
     let (omi, vp) = if p == 0 {
-        (x, LMotion::ZERO)
+        (x, LMotion::zero())
     } else {
-        (bufs.world_from_body[p].mul(&x), bufs.velocity[p])
+        (bufs.world_from_body[p].compose(&x), bufs.velocity[p])
     };
     bufs.world_from_body[i] = omi;
-    let mut vj = LMotion::ZERO;
+    let mut vj = LMotion::zero();
     for k in 0..b.nv {
         let d = b.idx_v + k;
         let s = match jm.axis_index() {
@@ -426,7 +427,7 @@ pub(crate) fn acceleration_body<const L: usize>(
     force: LForce<L>,
 ) {
     let vp = if b.parent == 0 {
-        LMotion::ZERO
+        LMotion::zero()
     } else {
         bufs.velocity[b.parent]
     };

@@ -1,8 +1,11 @@
 //! The instruction set of the batched sweeps, chosen at run time, and the joint transforms of a
 //! block of states in lanes.
 
-use crate::joint::{JointModel, sin_cos};
+use crate::joint::JointModel;
+use crate::joint::transform::rotate_about_axis;
+use kinetree_model::spatial::Real;
 use kinetree_model::spatial::lanes::{LMat3, LSe3, LVec3, Lanes};
+use kinetree_model::spatial::real::{Matrix3 as _, Vector3 as _};
 use kinetree_model::{Body, Model};
 
 /// The SIMD instruction set a batch workspace runs its sweeps with.
@@ -453,47 +456,18 @@ fn floating_transform<const L: usize>(b: &Body, c: &impl Coordinates<L>) -> LSe3
     if b.placement == kinetree_model::spatial::Se3::IDENTITY {
         local
     } else {
-        LSe3::splat(&b.placement).mul(&local)
-    }
-}
-
-/// `r` times a rotation by `(s, c)` about coordinate axis `k` (as `rotate_about_axis` of
-/// `joint/transform.rs`): two columns of three change.
-#[inline(always)]
-pub(crate) fn rotate_about_axis<const L: usize>(
-    r: &LMat3<L>,
-    k: usize,
-    s: Lanes<L>,
-    c: Lanes<L>,
-) -> LMat3<L> {
-    let (x, y, z) = (r.x_axis, r.y_axis, r.z_axis);
-    match k {
-        0 => LMat3 {
-            x_axis: x,
-            y_axis: y.scale(c) + z.scale(s),
-            z_axis: z.scale(c) - y.scale(s),
-        },
-        1 => LMat3 {
-            x_axis: x.scale(c) - z.scale(s),
-            y_axis: y,
-            z_axis: x.scale(s) + z.scale(c),
-        },
-        _ => LMat3 {
-            x_axis: x.scale(c) + y.scale(s),
-            y_axis: y.scale(c) - x.scale(s),
-            z_axis: z,
-        },
+        LSe3::splat(&b.placement).compose(&local)
     }
 }
 
 /// The sine and cosine of the joint value of a one-coordinate body in each lane (as the
-/// one-state sweeps' [`sin_cos`]).
+/// one-state sweeps' [`sin_cos`](crate::joint::sin_cos)).
 #[inline(always)]
 pub(crate) fn joint_sin_cos<const L: usize>(
     b: &Body,
     c: &impl Coordinates<L>,
 ) -> (Lanes<L>, Lanes<L>) {
-    sin_cos_lanes(joint_value(b, c))
+    joint_value(b, c).sin_cos()
 }
 
 /// `parent_from_body` of `b`, whose joint turns about coordinate axis `k` (0, 1, 2 for x, y,
@@ -518,119 +492,11 @@ pub(crate) fn revolute_axis_transform_of<const L: usize>(
     c: &impl Coordinates<L>,
 ) -> (LSe3<L>, Lanes<L>, Lanes<L>) {
     let p = &b.placement;
-    let (s, c) = sin_cos_lanes(joint_value(b, c));
+    let (s, c) = joint_value(b, c).sin_cos();
     let rotation = rotate_about_axis(&LMat3::splat(&p.rotation), k, s, c);
     let x = LSe3 {
         rotation,
         translation: LVec3::splat(p.translation),
     };
     (x, s, c)
-}
-
-/// [`sin_cos`] of every lane, bit for bit, in SIMD: the same reduction and kernels written
-/// over lanes (lanes with `|x| ≥ 1e5` take the scalar path, as `sin_cos` does).
-#[inline(always)]
-#[allow(
-    clippy::excessive_precision,
-    reason = "fdlibm's constants, digit for digit, as in sin_cos"
-)]
-pub(crate) fn sin_cos_lanes<const L: usize>(x: Lanes<L>) -> (Lanes<L>, Lanes<L>) {
-    const PIO2_1: f64 = 1.570_796_326_734_125_614_17e0;
-    const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
-    const PIO2_3: f64 = 2.022_266_248_795_950_631_54e-21;
-    const ROUND: f64 = 6_755_399_441_055_744.0;
-    const S1: f64 = -1.666_666_666_666_663_243_48e-1;
-    const S2: f64 = 8.333_333_333_322_489_461_24e-3;
-    const S3: f64 = -1.984_126_982_985_794_931_34e-4;
-    const S4: f64 = 2.755_731_370_707_006_767_89e-6;
-    const S5: f64 = -2.505_076_025_340_686_341_95e-8;
-    const S6: f64 = 1.589_690_995_211_550_102_21e-10;
-    const C1: f64 = 4.166_666_666_666_660_190_37e-2;
-    const C2: f64 = -1.388_888_888_887_410_957_49e-3;
-    const C3: f64 = 2.480_158_728_947_672_941_78e-5;
-    const C4: f64 = -2.755_731_435_139_066_330_35e-7;
-    const C5: f64 = 2.087_572_321_298_174_827_90e-9;
-    const C6: f64 = -1.135_964_755_778_819_482_65e-11;
-    let t = x * core::f64::consts::FRAC_2_PI + Lanes::splat(ROUND);
-    let kf = t - Lanes::splat(ROUND);
-    let r = ((x - kf * PIO2_1) - kf * PIO2_2) - kf * PIO2_3;
-    let z = r * r;
-    let poly_s = Lanes::splat(S1)
-        + z * (Lanes::splat(S2)
-            + z * (Lanes::splat(S3) + z * (Lanes::splat(S4) + z * (Lanes::splat(S5) + z * S6))));
-    let s = r + r * z * poly_s;
-    let poly_c = Lanes::splat(C1)
-        + z * (Lanes::splat(C2)
-            + z * (Lanes::splat(C3) + z * (Lanes::splat(C4) + z * (Lanes::splat(C5) + z * C6))));
-    let p = z * z * poly_c;
-    let hz = z * 0.5;
-    let w = Lanes::splat(1.0) - hz;
-    let c = w + (((Lanes::splat(1.0) - w) - hz) + p);
-    // Quadrant n = k mod 4 from the rounded sum's low bits (the integer k sits in the mantissa
-    // of `t`): (sin, cos) = (s, c), (c, -s), (-s, -c), (-c, s). Branch-free integer operations
-    // on whole arrays, so that the compiler keeps every step (and the polynomials above) in
-    // full-width vectors instead of splitting them lane by lane.
-    let (mut sin, mut cos) = ([0.0; L], [0.0; L]);
-    for l in 0..L {
-        let n = t.0[l].to_bits();
-        let odd = 0u64.wrapping_sub(n & 1);
-        let (sb, cb) = (s.0[l].to_bits(), c.0[l].to_bits());
-        let sv = (sb & !odd) | (cb & odd);
-        let cv = (cb & !odd) | (sb & odd);
-        sin[l] = f64::from_bits(sv ^ ((n & 2) << 62));
-        cos[l] = f64::from_bits(cv ^ ((n.wrapping_add(1) & 2) << 62));
-    }
-    let mut large = 0u64;
-    for l in 0..L {
-        large |= u64::from(x.0[l].abs() >= 1e5);
-    }
-    if large != 0 {
-        for l in 0..L {
-            if x.0[l].abs() >= 1e5 {
-                (sin[l], cos[l]) = sin_cos(x.0[l]);
-            }
-        }
-    }
-    (Lanes(sin), Lanes(cos))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn lane_sin_cos_is_the_scalar_one_bit_for_bit() {
-        let mut x = -1.2e5 + 0.123;
-        let mut checked = 0;
-        while x < 1.2e5 {
-            let xs = Lanes([x, -x * 0.5, x * 1e-3, x * 1e-9]);
-            let (s, c) = sin_cos_lanes(xs);
-            for l in 0..4 {
-                let (s0, c0) = sin_cos(xs.0[l]);
-                assert_eq!(
-                    (s.0[l].to_bits(), c.0[l].to_bits()),
-                    (s0.to_bits(), c0.to_bits()),
-                    "{}",
-                    xs.0[l]
-                );
-                checked += 1;
-            }
-            x += 0.377_123;
-        }
-        for i in -2000..2000 {
-            let x = f64::from(i) * core::f64::consts::FRAC_PI_4;
-            let xs = Lanes([x, x * (1.0 + 1e-15), -0.0, 0.0]);
-            let (s, c) = sin_cos_lanes(xs);
-            for l in 0..4 {
-                let (s0, c0) = sin_cos(xs.0[l]);
-                assert_eq!(
-                    (s.0[l].to_bits(), c.0[l].to_bits()),
-                    (s0.to_bits(), c0.to_bits()),
-                    "{}",
-                    xs.0[l]
-                );
-            }
-        }
-        assert!(checked > 1_000_000);
-    }
 }

@@ -2,15 +2,16 @@
 //! `forward.rs` and `jacobian.rs`, over a block of `L` states at a time.
 
 use super::simd::{
-    Coordinates, Gathered, InLanes, block_states, body_transform_of, joint_sin_cos,
-    rotate_about_axis, suspect_lanes,
+    Coordinates, Gathered, InLanes, block_states, body_transform_of, joint_sin_cos, suspect_lanes,
 };
 use super::transpose::Io;
 use crate::error::check_q;
 use crate::jacobian::ReferenceFrame;
 use crate::joint::JointModel;
+use crate::joint::transform::rotate_about_axis;
 use kinetree_model::Model;
 use kinetree_model::spatial::lanes::{LMotion, LSe3, LVec3, LaneVec, Lanes};
+use kinetree_model::spatial::real::{Matrix3 as _, Vector3 as _};
 use kinetree_model::spatial::{Motion, Se3};
 
 /// The per-body and per-link lane buffers of one lane width.
@@ -113,13 +114,13 @@ impl<const L: usize> LaneBuffers<L> {
             coordinates: vec![Lanes::ZERO; model.nq().next_multiple_of(8)],
             world_from_body: LaneVec::new(LSe3::splat(&Se3::IDENTITY), model.nbodies()),
             world_from_link: LaneVec::new(LSe3::splat(&Se3::IDENTITY), model.links().len()),
-            columns: LaneVec::new(LMotion::ZERO, model.nv()),
+            columns: LaneVec::new(LMotion::zero(), model.nv()),
             path_columns: Vec::with_capacity(model.nv()),
             on_path: vec![false; model.nv()],
             zero_runs: Vec::with_capacity(model.nv() + 1),
             path_bodies: Vec::with_capacity(model.nbodies()),
             path_terms: Vec::with_capacity(model.nv() + model.nbodies()),
-            term_columns: LaneVec::new(LMotion::ZERO, model.nv() + model.nbodies()),
+            term_columns: LaneVec::new(LMotion::zero(), model.nv() + model.nbodies()),
             rows: vec![Lanes::ZERO; (6 * model.nv()).next_multiple_of(8)],
         }
     }
@@ -172,7 +173,7 @@ fn place<const L: usize>(
     world[i] = if b.parent == 0 {
         local
     } else {
-        world[b.parent].mul(&local)
+        world[b.parent].compose(&local)
     };
 }
 
@@ -436,7 +437,7 @@ pub(crate) fn frame_jacobian<const L: usize>(
         }
         let world_from_frame = bufs.world_from_body[body].mul_const(&body_from_frame);
         for &c in &bufs.path_columns {
-            bufs.columns[c] = LMotion::ZERO;
+            bufs.columns[c] = LMotion::zero();
         }
         for (t, term) in bufs.path_terms.iter().enumerate() {
             bufs.columns[term.column] +=

@@ -5,8 +5,10 @@
 //! spherical, planar and floating joints take their velocities in the child frame (see
 //! [`JointKind`]).
 
+use super::transform::along;
 use glam::{DQuat, DVec3};
 use kinetree_model::spatial::axis::unit_cross;
+use kinetree_model::spatial::real::{Real, Vector3};
 use kinetree_model::spatial::{Force, Motion, OriginInertia, Se3};
 use kinetree_model::{Body, JointKind, plane_basis};
 
@@ -131,14 +133,14 @@ impl JointModel {
     /// [`JointModel::axis_index`]); `None` for other kinds (use [`JointModel::project_force`]).
     #[inline(always)]
     #[must_use]
-    pub fn project_axis(&self, f: &Force) -> Option<f64> {
+    pub fn project_axis<T: Real>(&self, f: &Force<T>) -> Option<T> {
         match self {
-            Self::RevoluteX => Some(f.angular.x),
-            Self::RevoluteY => Some(f.angular.y),
-            Self::RevoluteZ => Some(f.angular.z),
-            Self::PrismaticX => Some(f.linear.x),
-            Self::PrismaticY => Some(f.linear.y),
-            Self::PrismaticZ => Some(f.linear.z),
+            Self::RevoluteX => Some(f.angular.get(0)),
+            Self::RevoluteY => Some(f.angular.get(1)),
+            Self::RevoluteZ => Some(f.angular.get(2)),
+            Self::PrismaticX => Some(f.linear.get(0)),
+            Self::PrismaticY => Some(f.linear.get(1)),
+            Self::PrismaticZ => Some(f.linear.get(2)),
             _ => None,
         }
     }
@@ -240,54 +242,73 @@ impl JointModel {
         }
     }
 
-    /// The joint velocity `S · v` (a twist in the child frame) for velocity block `v`.
-    #[inline]
+    /// The joint velocity `S · v` (a twist in the child frame) for velocity block `v`, for one
+    /// state (`f64`) or a block of states in lanes.
+    #[inline(always)]
     #[must_use]
-    pub fn motion(&self, v: &[f64]) -> Motion {
-        match *self {
-            Self::Fixed => Motion::ZERO,
-            Self::RevoluteX => Motion::new(DVec3::ZERO, DVec3::new(v[0], 0.0, 0.0)),
-            Self::RevoluteY => Motion::new(DVec3::ZERO, DVec3::new(0.0, v[0], 0.0)),
-            Self::RevoluteZ => Motion::new(DVec3::ZERO, DVec3::new(0.0, 0.0, v[0])),
-            Self::Revolute(a) => Motion::new(DVec3::ZERO, a * v[0]),
-            Self::PrismaticX => Motion::new(DVec3::new(v[0], 0.0, 0.0), DVec3::ZERO),
-            Self::PrismaticY => Motion::new(DVec3::new(0.0, v[0], 0.0), DVec3::ZERO),
-            Self::PrismaticZ => Motion::new(DVec3::new(0.0, 0.0, v[0]), DVec3::ZERO),
-            Self::Prismatic(a) => Motion::new(a * v[0], DVec3::ZERO),
-            Self::Cylindrical(a) => Motion::new(a * v[0], a * v[1]),
-            Self::Spherical => Motion::new(DVec3::ZERO, DVec3::new(v[0], v[1], v[2])),
-            Self::Planar { u, w, n } => Motion::new(u * v[0] + w * v[1], n * v[2]),
-            Self::Floating => Motion::from_slice(v),
-        }
+    pub fn motion<T: Real>(&self, v: &[T]) -> Motion<T> {
+        let (o, zero) = (T::ZERO, T::V3::ZERO);
+        let (linear, angular) = match *self {
+            Self::Fixed => (zero, zero),
+            Self::RevoluteX => (zero, T::V3::new(v[0], o, o)),
+            Self::RevoluteY => (zero, T::V3::new(o, v[0], o)),
+            Self::RevoluteZ => (zero, T::V3::new(o, o, v[0])),
+            Self::Revolute(a) => (zero, along(a, v[0])),
+            Self::PrismaticX => (T::V3::new(v[0], o, o), zero),
+            Self::PrismaticY => (T::V3::new(o, v[0], o), zero),
+            Self::PrismaticZ => (T::V3::new(o, o, v[0]), zero),
+            Self::Prismatic(a) => (along(a, v[0]), zero),
+            Self::Cylindrical(a) => (along(a, v[0]), along(a, v[1])),
+            Self::Spherical => (zero, T::V3::new(v[0], v[1], v[2])),
+            Self::Planar { u, w, n } => (along(u, v[0]) + along(w, v[1]), along(n, v[2])),
+            Self::Floating => (T::V3::new(v[0], v[1], v[2]), T::V3::new(v[3], v[4], v[5])),
+        };
+        Motion { linear, angular }
     }
 
     /// Writes `Sᵀ · f` (the generalized force of a wrench in the child frame) into `out`
-    /// (length `nv()`).
-    #[inline]
-    pub fn project_force(&self, f: &Force, out: &mut [f64]) {
+    /// (length `nv()`), for one state (`f64`) or a block of states in lanes.
+    #[inline(always)]
+    pub fn project_force<T: Real>(&self, f: &Force<T>, out: &mut [T]) {
+        let (lin, ang) = (&f.linear, &f.angular);
         match *self {
             Self::Fixed => {}
-            Self::RevoluteX => out[0] = f.angular.x,
-            Self::RevoluteY => out[0] = f.angular.y,
-            Self::RevoluteZ => out[0] = f.angular.z,
-            Self::Revolute(a) => out[0] = a.dot(f.angular),
-            Self::PrismaticX => out[0] = f.linear.x,
-            Self::PrismaticY => out[0] = f.linear.y,
-            Self::PrismaticZ => out[0] = f.linear.z,
-            Self::Prismatic(a) => out[0] = a.dot(f.linear),
+            Self::RevoluteX => out[0] = ang.get(0),
+            Self::RevoluteY => out[0] = ang.get(1),
+            Self::RevoluteZ => out[0] = ang.get(2),
+            Self::Revolute(a) => out[0] = dot_const(a, ang),
+            Self::PrismaticX => out[0] = lin.get(0),
+            Self::PrismaticY => out[0] = lin.get(1),
+            Self::PrismaticZ => out[0] = lin.get(2),
+            Self::Prismatic(a) => out[0] = dot_const(a, lin),
             Self::Cylindrical(a) => {
-                out[0] = a.dot(f.linear);
-                out[1] = a.dot(f.angular);
+                out[0] = dot_const(a, lin);
+                out[1] = dot_const(a, ang);
             }
-            Self::Spherical => out[..3].copy_from_slice(&f.angular.to_array()),
+            Self::Spherical => {
+                for k in 0..3 {
+                    out[k] = ang.get(k);
+                }
+            }
             Self::Planar { u, w, n } => {
-                out[0] = u.dot(f.linear);
-                out[1] = w.dot(f.linear);
-                out[2] = n.dot(f.angular);
+                out[0] = dot_const(u, lin);
+                out[1] = dot_const(w, lin);
+                out[2] = dot_const(n, ang);
             }
-            Self::Floating => f.write_to_slice(out),
+            Self::Floating => {
+                for k in 0..3 {
+                    out[k] = lin.get(k);
+                    out[k + 3] = ang.get(k);
+                }
+            }
         }
     }
+}
+
+/// `a · x` for a constant direction `a`.
+#[inline(always)]
+fn dot_const<T: Real>(a: DVec3, x: &T::V3) -> T {
+    T::V3::from_const(a).dot(x)
 }
 
 /// `I·S` for an axis-aligned joint's subspace `S = e_K` (angular if `REV`, else linear).

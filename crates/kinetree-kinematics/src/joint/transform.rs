@@ -2,102 +2,36 @@
 //! ([`JointModel::placed_transform`]) and its factored form for composite inertias
 //! ([`JointModel::placed_transform_factored`]).
 
-use super::model::{JointModel, quat};
-use glam::{DMat3, DVec3};
+use super::model::JointModel;
+use glam::DVec3;
 use kinetree_model::Body;
+use kinetree_model::spatial::real::{Matrix3, Real, Vector3};
 use kinetree_model::spatial::{OriginInertia, RotationForm, Se3};
 
-/// `(sin x, cos x)` to within an ulp or two, inlined and branch-free for `|x| < 1e5` (every
-/// joint angle in practice); larger arguments fall back to [`f64::sin_cos`].
-///
-/// Cody–Waite reduction by π/2 with a three-part constant, then fdlibm's minimax kernels on
-/// `[-π/4, π/4]`. About half the cost of the libm call, which matters because every revolute
-/// joint of every sweep needs one.
-///
-/// ```
-/// let (s, c) = kinetree_kinematics::joint::sin_cos(0.5);
-/// assert!((s - 0.5f64.sin()).abs() <= f64::EPSILON && (c - 0.5f64.cos()).abs() <= f64::EPSILON);
-/// ```
-#[inline(always)]
-#[must_use]
-#[allow(
-    clippy::excessive_precision,
-    reason = "fdlibm's constants, digit for digit"
-)]
-pub fn sin_cos(x: f64) -> (f64, f64) {
-    // π/2 split into parts whose products with |k| < 2^20 are exact (fdlibm's pio2_1, pio2_2).
-    const PIO2_1: f64 = 1.570_796_326_734_125_614_17e0;
-    const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
-    const PIO2_3: f64 = 2.022_266_248_795_950_631_54e-21;
-    const ROUND: f64 = 6_755_399_441_055_744.0; // 1.5·2^52: adding it rounds to an integer.
-    const S1: f64 = -1.666_666_666_666_663_243_48e-1;
-    const S2: f64 = 8.333_333_333_322_489_461_24e-3;
-    const S3: f64 = -1.984_126_982_985_794_931_34e-4;
-    const S4: f64 = 2.755_731_370_707_006_767_89e-6;
-    const S5: f64 = -2.505_076_025_340_686_341_95e-8;
-    const S6: f64 = 1.589_690_995_211_550_102_21e-10;
-    const C1: f64 = 4.166_666_666_666_660_190_37e-2;
-    const C2: f64 = -1.388_888_888_887_410_957_49e-3;
-    const C3: f64 = 2.480_158_728_947_672_941_78e-5;
-    const C4: f64 = -2.755_731_435_139_066_330_35e-7;
-    const C5: f64 = 2.087_572_321_298_174_827_90e-9;
-    const C6: f64 = -1.135_964_755_778_819_482_65e-11;
-    if x.abs() >= 1e5 {
-        return x.sin_cos();
-    }
-    let kf = (x * core::f64::consts::FRAC_2_PI + ROUND) - ROUND;
-    let r = ((x - kf * PIO2_1) - kf * PIO2_2) - kf * PIO2_3;
-    let z = r * r;
-    let s = r + r * z * (S1 + z * (S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)))));
-    let p = z * z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
-    let hz = 0.5 * z;
-    let w = 1.0 - hz;
-    let c = w + (((1.0 - w) - hz) + p);
-    // Quadrant n = k mod 4: (sin, cos) = (s, c), (c, -s), (-s, -c), (-c, s).
-    let n = kf as i64 as u64;
-    let swap = 0u64.wrapping_sub(n & 1);
-    let (sb, cb) = (s.to_bits(), c.to_bits());
-    let sin_bits = (sb & !swap) | (cb & swap);
-    let cos_bits = (cb & !swap) | (sb & swap);
-    let sin_sign = (n & 2) << 62;
-    let cos_sign = (n.wrapping_add(1) & 2) << 62;
-    (
-        f64::from_bits(sin_bits ^ sin_sign),
-        f64::from_bits(cos_bits ^ cos_sign),
-    )
-}
+pub use kinetree_model::spatial::real::sin_cos;
 
 /// The placement rotation `R` times a rotation by `(s, c)` about coordinate axis `k`: columns `i`
 /// and `j` of `R·R_k(θ)` are `c·r_i + s·r_j` and `c·r_j - s·r_i`.
 #[inline(always)]
-pub(crate) fn rotate_about_axis(r: &DMat3, k: usize, s: f64, c: f64) -> DMat3 {
+pub(crate) fn rotate_about_axis<T: Real>(r: &T::M3, k: usize, s: T, c: T) -> T::M3 {
+    let (x, y, z) = (r.col(0), r.col(1), r.col(2));
     match k {
-        0 => DMat3::from_cols(
-            r.x_axis,
-            r.y_axis * c + r.z_axis * s,
-            r.z_axis * c - r.y_axis * s,
-        ),
-        1 => DMat3::from_cols(
-            r.x_axis * c - r.z_axis * s,
-            r.y_axis,
-            r.x_axis * s + r.z_axis * c,
-        ),
-        _ => DMat3::from_cols(
-            r.x_axis * c + r.y_axis * s,
-            r.y_axis * c - r.x_axis * s,
-            r.z_axis,
-        ),
+        0 => T::M3::from_cols(x, y.scale(c) + z.scale(s), z.scale(c) - y.scale(s)),
+        1 => T::M3::from_cols(x.scale(c) - z.scale(s), y, x.scale(s) + z.scale(c)),
+        _ => T::M3::from_cols(x.scale(c) + y.scale(s), y.scale(c) - x.scale(s), z),
     }
 }
 
 /// The rotation by `(s, c)` about coordinate axis `k`, built entry by entry (what
 /// [`rotate_about_axis`] gives for the identity, without its multiplications).
 #[inline(always)]
-pub(crate) fn axis_rotation(k: usize, s: f64, c: f64) -> DMat3 {
+pub(crate) fn axis_rotation<T: Real>(k: usize, s: T, c: T) -> T::M3 {
+    let (o, i) = (T::ZERO, T::splat(1.0));
+    let v = T::V3::new;
     match k {
-        0 => DMat3::from_cols(DVec3::X, DVec3::new(0.0, c, s), DVec3::new(0.0, -s, c)),
-        1 => DMat3::from_cols(DVec3::new(c, 0.0, -s), DVec3::Y, DVec3::new(s, 0.0, c)),
-        _ => DMat3::from_cols(DVec3::new(c, s, 0.0), DVec3::new(-s, c, 0.0), DVec3::Z),
+        0 => T::M3::from_cols(v(i, o, o), v(o, c, s), v(o, -s, c)),
+        1 => T::M3::from_cols(v(c, o, -s), v(o, i, o), v(s, o, c)),
+        _ => T::M3::from_cols(v(c, s, o), v(-s, c, o), v(o, o, i)),
     }
 }
 
@@ -139,32 +73,25 @@ impl JointRot {
 impl JointModel {
     /// `parent_from_child` of `placement * joint_motion(q)`, computed without forming the joint
     /// motion where the axis is aligned (and with the fast [`sin_cos`]). `q` is the joint's block
-    /// of the configuration.
+    /// of the configuration, of one state (`f64`) or a block of states in lanes.
     #[inline(always)]
     #[must_use]
-    pub fn placed_transform(&self, placement: &Se3, q: &[f64]) -> Se3 {
+    pub fn placed_transform<T: Real>(&self, placement: &Se3, q: &[T]) -> Se3<T> {
+        // No closures here or below: a closure is a function of its own that the compiler may
+        // leave out of line, and out of line it is built without the caller's SIMD features.
         let r = &placement.rotation;
         match *self {
-            Self::RevoluteX => {
-                let (s, c) = sin_cos(q[0]);
-                Se3::new(rotate_about_axis(r, 0, s, c), placement.translation)
-            }
-            Self::RevoluteY => {
-                let (s, c) = sin_cos(q[0]);
-                Se3::new(rotate_about_axis(r, 1, s, c), placement.translation)
-            }
-            Self::RevoluteZ => {
-                let (s, c) = sin_cos(q[0]);
-                Se3::new(rotate_about_axis(r, 2, s, c), placement.translation)
-            }
-            Self::PrismaticX => Se3::new(*r, placement.translation + r.x_axis * q[0]),
-            Self::PrismaticY => Se3::new(*r, placement.translation + r.y_axis * q[0]),
-            Self::PrismaticZ => Se3::new(*r, placement.translation + r.z_axis * q[0]),
-            Self::Prismatic(a) => Se3::new(*r, placement.translation + *r * (a * q[0])),
-            Self::Fixed => *placement,
+            Self::RevoluteX => turned(placement, 0, q[0]),
+            Self::RevoluteY => turned(placement, 1, q[0]),
+            Self::RevoluteZ => turned(placement, 2, q[0]),
+            Self::PrismaticX => slid(placement, along(r.x_axis, q[0])),
+            Self::PrismaticY => slid(placement, along(r.y_axis, q[0])),
+            Self::PrismaticZ => slid(placement, along(r.z_axis, q[0])),
+            Self::Prismatic(a) => slid(placement, T::M3::from_const(r).mul_vec(&along(a, q[0]))),
+            Self::Fixed => Se3::from_const(placement),
             // Floating roots and many ball joints sit at the identity: skip the product.
             _ if *placement == Se3::IDENTITY => self.transform(q),
-            _ => *placement * self.transform(q),
+            _ => Se3::from_const(placement).compose(&self.transform(q)),
         }
     }
 
@@ -181,7 +108,7 @@ impl JointModel {
                 let (s, c) = sin_cos(q[0]);
                 (
                     Se3::new(
-                        rotate_about_axis(&placement.rotation, k, s, c),
+                        rotate_about_axis::<f64>(&placement.rotation, k, s, c),
                         placement.translation,
                     ),
                     JointRot { k, s, c },
@@ -215,42 +142,130 @@ impl JointModel {
         rotated.translated(x.translation)
     }
 
-    /// `parent_from_body` of `body` (whose joint model this is) for the full configuration `q`.
-    /// A coupled mimic body uses `multiplier · q_leader + offset`.
-    #[inline]
+    /// `parent_from_body` of `body` (whose joint model this is) for the full configuration `q`
+    /// (of one state, or a block of states in lanes). A coupled mimic body uses
+    /// `multiplier · q_leader + offset`.
+    #[inline(always)]
     #[must_use]
-    pub fn body_transform(&self, body: &Body, q: &[f64]) -> Se3 {
-        match &body.mimic {
-            None => self.placed_transform(&body.placement, &q[body.idx_q..body.idx_q + body.nq]),
-            Some(m) => {
-                self.placed_transform(&body.placement, &[m.multiplier * q[body.idx_q] + m.offset])
-            }
-        }
+    pub fn body_transform<T: Real>(&self, body: &Body, q: &[T]) -> Se3<T> {
+        // One inlined copy of the placement kernel for both cases.
+        let coupled;
+        let block = if body.mimic.is_none() {
+            &q[body.idx_q..body.idx_q + body.nq]
+        } else {
+            coupled = [mimic_value(body, q[body.idx_q])];
+            &coupled[..]
+        };
+        self.placed_transform(&body.placement, block)
     }
 
-    /// The joint motion `joint_from_child` for configuration block `q`.
+    /// The joint motion `joint_from_child` for configuration block `q` (of one state, or a
+    /// block of states in lanes).
+    #[inline(always)]
     #[must_use]
-    pub fn transform(&self, q: &[f64]) -> Se3 {
+    pub fn transform<T: Real>(&self, q: &[T]) -> Se3<T> {
+        let origin = T::V3::ZERO;
         match *self {
-            Self::Fixed => Se3::IDENTITY,
-            Self::RevoluteX => Se3::from_rotation_x(q[0]),
-            Self::RevoluteY => Se3::from_rotation_y(q[0]),
-            Self::RevoluteZ => Se3::from_rotation_z(q[0]),
-            Self::Revolute(a) => Se3::from_axis_angle(a, q[0]),
-            Self::PrismaticX => Se3::from_translation(DVec3::X * q[0]),
-            Self::PrismaticY => Se3::from_translation(DVec3::Y * q[0]),
-            Self::PrismaticZ => Se3::from_translation(DVec3::Z * q[0]),
-            Self::Prismatic(a) => Se3::from_translation(a * q[0]),
-            Self::Cylindrical(a) => Se3::new(Se3::from_axis_angle(a, q[1]).rotation, a * q[0]),
-            Self::Spherical => Se3::from_quat(quat(q)),
-            Self::Planar { u, w, n } => {
-                Se3::new(Se3::from_axis_angle(n, q[2]).rotation, u * q[0] + w * q[1])
-            }
-            Self::Floating => {
-                Se3::from_translation_quat(DVec3::new(q[0], q[1], q[2]), quat(&q[3..7]))
-            }
+            Self::Fixed => Se3::identity(),
+            Self::RevoluteX => turned(&Se3::IDENTITY, 0, q[0]),
+            Self::RevoluteY => turned(&Se3::IDENTITY, 1, q[0]),
+            Self::RevoluteZ => turned(&Se3::IDENTITY, 2, q[0]),
+            Self::Revolute(a) => Se3 {
+                rotation: axis_angle_rotation(a, q[0]),
+                translation: origin,
+            },
+            Self::PrismaticX => slid(&Se3::IDENTITY, along(DVec3::X, q[0])),
+            Self::PrismaticY => slid(&Se3::IDENTITY, along(DVec3::Y, q[0])),
+            Self::PrismaticZ => slid(&Se3::IDENTITY, along(DVec3::Z, q[0])),
+            Self::Prismatic(a) => slid(&Se3::IDENTITY, along(a, q[0])),
+            Self::Cylindrical(a) => Se3 {
+                rotation: axis_angle_rotation(a, q[1]),
+                translation: along(a, q[0]),
+            },
+            Self::Spherical => Se3 {
+                rotation: quaternion_rotation(q[0], q[1], q[2], q[3]),
+                translation: origin,
+            },
+            Self::Planar { u, w, n } => Se3 {
+                rotation: axis_angle_rotation(n, q[2]),
+                translation: along(u, q[0]) + along(w, q[1]),
+            },
+            Self::Floating => Se3 {
+                rotation: quaternion_rotation(q[3], q[4], q[5], q[6]),
+                translation: T::V3::new(q[0], q[1], q[2]),
+            },
         }
     }
+}
+
+/// `placement` turned by `angle` about its coordinate axis `k`: the placement's rotation times
+/// the axis rotation, two columns of three (with the fast [`sin_cos`]).
+#[inline(always)]
+fn turned<T: Real>(placement: &Se3, k: usize, angle: T) -> Se3<T> {
+    let (s, c) = angle.sin_cos();
+    Se3 {
+        rotation: rotate_about_axis(&T::M3::from_const(&placement.rotation), k, s, c),
+        translation: T::V3::from_const(placement.translation),
+    }
+}
+
+/// `placement` slid by `d` (in the parent frame).
+#[inline(always)]
+fn slid<T: Real>(placement: &Se3, d: T::V3) -> Se3<T> {
+    Se3 {
+        rotation: T::M3::from_const(&placement.rotation),
+        translation: T::V3::from_const(placement.translation) + d,
+    }
+}
+
+/// The constant direction `a` times `s`.
+#[inline(always)]
+pub(crate) fn along<T: Real>(a: DVec3, s: T) -> T::V3 {
+    T::V3::from_const(a).scale(s)
+}
+
+/// A coupled mimic body's joint value `multiplier · q_leader + offset` for the leader's value
+/// `x` (`x` itself for other bodies): the one place the mimic coupling enters a placement.
+#[inline(always)]
+pub(crate) fn mimic_value<T: Real>(body: &Body, x: T) -> T {
+    match &body.mimic {
+        None => x,
+        Some(m) => x * m.multiplier + m.offset,
+    }
+}
+
+/// The rotation by `angle` about the unit vector `a` (Rodrigues' formula, the entries of
+/// [`rotation::rot_axis_angle`](kinetree_model::spatial::rotation::rot_axis_angle) with the
+/// fast [`sin_cos`]).
+#[inline(always)]
+fn axis_angle_rotation<T: Real>(a: DVec3, angle: T) -> T::M3 {
+    let (s, c) = angle.sin_cos();
+    let t = T::splat(1.0) - c;
+    let (x, y, z) = (a.x, a.y, a.z);
+    T::M3::from_cols(
+        T::V3::new(t * x * x + c, t * x * y + s * z, t * x * z - s * y),
+        T::V3::new(t * x * y - s * z, t * y * y + c, t * y * z + s * x),
+        T::V3::new(t * x * z + s * y, t * y * z - s * x, t * z * z + c),
+    )
+}
+
+/// The rotation of the quaternion `(x, y, z, w)` divided by its length (the entry checks refuse
+/// norms further than [`QUATERNION_NORM_TOLERANCE`](crate::QUATERNION_NORM_TOLERANCE) from 1,
+/// so this only removes rounding), with glam's `DMat3::from_quat` products.
+#[inline(always)]
+fn quaternion_rotation<T: Real>(x: T, y: T, z: T, w: T) -> T::M3 {
+    let length = (x * x + y * y + z * z + w * w).sqrt();
+    let (x, y, z, w) = (x / length, y / length, z / length, w / length);
+    let (x2, y2, z2) = (x + x, y + y, z + z);
+    let (xx, xy, xz) = (x * x2, x * y2, x * z2);
+    let (yy, yz, zz) = (y * y2, y * z2, z * z2);
+    let (wx, wy, wz) = (w * x2, w * y2, w * z2);
+    let one = T::splat(1.0);
+    T::M3::from_cols(
+        T::V3::new(one - (yy + zz), xy + wz, xz - wy),
+        T::V3::new(xy - wz, one - (xx + zz), yz + wx),
+        T::V3::new(xz + wy, yz - wx, one - (xx + yy)),
+    )
 }
 
 #[cfg(test)]
@@ -260,6 +275,109 @@ mod tests {
 
     fn ulps(a: f64, b: f64) -> f64 {
         (a - b).abs() / f64::EPSILON
+    }
+
+    /// Every joint kind, with general axes where the kind has one.
+    fn every_kind() -> Vec<JointModel> {
+        let a = DVec3::new(0.36, -0.48, 0.8);
+        let (u, w) = (DVec3::new(0.8, 0.6, 0.0), DVec3::new(-0.6, 0.8, 0.0));
+        vec![
+            JointModel::Fixed,
+            JointModel::RevoluteX,
+            JointModel::RevoluteY,
+            JointModel::RevoluteZ,
+            JointModel::Revolute(a),
+            JointModel::PrismaticX,
+            JointModel::PrismaticY,
+            JointModel::PrismaticZ,
+            JointModel::Prismatic(a),
+            JointModel::Cylindrical(a),
+            JointModel::Spherical,
+            JointModel::Planar { u, w, n: DVec3::Z },
+            JointModel::Floating,
+        ]
+    }
+
+    /// The one generic joint algebra gives each lane of a block of states the one-state result,
+    /// bit for bit, for every joint kind: placements (with and without a placement product),
+    /// motions and projections.
+    #[test]
+    fn every_joint_kind_gives_the_one_state_bits_in_lanes() {
+        use kinetree_model::spatial::lanes::{LForce, Lanes};
+        // Four states per kind: angles beyond ±π, tiny and negative values, unit quaternions
+        // with rounding left in.
+        let states = [
+            [0.3, -1.7, 2.9, 0.1, 0.2, 0.3, 0.927_361_849_549_570_3],
+            [-3.5, 0.25, -0.0, -0.5, 0.5, -0.5, 0.5],
+            [1e-9, 4.0, -2.2, 0.0, 0.0, 0.0, 1.000_000_000_1],
+            [12.0, -0.6, 0.7, 0.6, 0.0, 0.8, 0.0],
+        ];
+        let lanes: Vec<Lanes<4>> = (0..7)
+            .map(|k| Lanes([states[0][k], states[1][k], states[2][k], states[3][k]]))
+            .collect();
+        let forces = [
+            Force::from_array([0.3, -1.2, 0.5, 2.0, -0.1, 0.7]),
+            Force::from_array([-2.0, 0.4, 1.5, -0.3, 0.9, 0.2]),
+            Force::from_array([1.0, 1.0, -1.0, 0.5, 0.5, -0.5]),
+            Force::from_array([0.0, -0.7, 0.2, 1.3, -2.1, 0.6]),
+        ];
+        let mut lane_force = LForce::<4>::zero();
+        for (l, f) in forces.iter().enumerate() {
+            lane_force.set_lane(l, f);
+        }
+        for placement in [
+            Se3::IDENTITY,
+            Se3::from_xyz_rpy([0.1, -0.2, 0.3], [0.4, 0.5, -0.6]),
+        ] {
+            for jm in every_kind() {
+                let (nq, nv) = (jm.nq(), jm.nv());
+                let x = jm.placed_transform(&placement, &lanes[..nq]);
+                let m = jm.motion(&lanes[..nv]);
+                let mut tau = [Lanes::<4>::ZERO; 6];
+                jm.project_force(&lane_force, &mut tau[..nv]);
+                for (l, q) in states.iter().enumerate() {
+                    assert_eq!(
+                        x.lane(l),
+                        jm.placed_transform(&placement, &q[..nq]),
+                        "{jm:?}"
+                    );
+                    assert_eq!(m.lane(l), jm.motion(&q[..nv]), "{jm:?}");
+                    let mut one = [0.0; 6];
+                    jm.project_force(&forces[l], &mut one[..nv]);
+                    for k in 0..nv {
+                        assert_eq!(tau[k].0[l].to_bits(), one[k].to_bits(), "{jm:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// The placed transform is the placement times the joint motion, `Sᵀ·f` is the power of `f`
+    /// along each subspace column, and `S·v` is the columns' combination: the generic kernels
+    /// against their definitions, for every kind.
+    #[test]
+    fn every_joint_kind_matches_its_definition() {
+        let placement = Se3::from_xyz_rpy([0.1, -0.2, 0.3], [0.4, 0.5, -0.6]);
+        let q = [0.3, -1.7, 2.9, 0.1, 0.2, 0.3, 0.927_361_849_549_570_3];
+        let v = [0.5, -0.25, 1.5, -2.0, 0.75, 0.1];
+        let f = Force::from_array([0.3, -1.2, 0.5, 2.0, -0.1, 0.7]);
+        for jm in every_kind() {
+            let (nq, nv) = (jm.nq(), jm.nv());
+            let placed = jm.placed_transform(&placement, &q[..nq]);
+            assert!(
+                placed.abs_diff_eq(&(placement * jm.transform(&q[..nq])), 1e-14, 1e-14),
+                "{jm:?}"
+            );
+            let mut tau = [0.0; 6];
+            jm.project_force(&f, &mut tau[..nv]);
+            let mut combined = Motion::ZERO;
+            for k in 0..nv {
+                let s = jm.subspace_column(k);
+                assert!((tau[k] - s.dot(&f)).abs() < 1e-15, "{jm:?}");
+                combined += s * v[k];
+            }
+            assert!(jm.motion(&v[..nv]).abs_diff_eq(&combined, 1e-15), "{jm:?}");
+        }
     }
 
     #[test]
