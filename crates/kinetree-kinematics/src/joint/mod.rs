@@ -3,7 +3,7 @@
 //!
 //! - [`JointModel`] (`model.rs`): the joint kinds specialised by axis, their sizes `nq`/`nv`,
 //!   motion subspaces and the axis-aligned kernels of the sweeps.
-//! - `transform.rs`: the fast [`sin_cos`], [`JointModel::placed_transform`] (`parent_from_child`
+//! - `transform.rs`: the fast [`sin_cos`] (re-exported from kinetree-spatial), [`JointModel::placed_transform`] (`parent_from_child`
 //!   of a placed joint) and its factored form for composite inertias
 //!   ([`JointModel::placed_transform_factored`], [`JointRot`]).
 //! - `lie_group.rs`: each joint's configuration manifold: [`integrate_joint`],

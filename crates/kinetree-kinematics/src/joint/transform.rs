@@ -1,6 +1,7 @@
-//! Joint transforms: the fast [`sin_cos`], `parent_from_child` of a placed joint
-//! ([`JointModel::placed_transform`]) and its factored form for composite inertias
-//! ([`JointModel::placed_transform_factored`]).
+//! Joint transforms, for one state or a block of states in lanes: `parent_from_child` of a
+//! placed joint ([`JointModel::placed_transform`]), the mimic coupling, and the factored form
+//! for composite inertias ([`JointModel::placed_transform_factored`]). The fast [`sin_cos`]
+//! they use is kinetree-spatial's (re-exported here).
 
 use super::model::JointModel;
 use glam::DVec3;
