@@ -3,9 +3,12 @@
 use crate::data::{AncestorStep, DynamicsData};
 use crate::error::DynamicsError;
 use crate::rnea::check_inputs;
+use core::ops::{Index, IndexMut};
+use kinetree_kinematics::JointModel;
+use kinetree_kinematics::joint::JointRot;
 use kinetree_kinematics::model::Model;
-use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::{Force, Se3};
+use kinetree_kinematics::spatial::real::{Matrix3 as _, Real, Vector3 as _};
+use kinetree_kinematics::spatial::{Force, Motion, OriginInertia, RotationForm, Se3};
 
 /// The joint-space mass (inertia) matrix `M(q)`: `nv x nv`, symmetric positive (semi-)definite,
 /// with `½·q̇ᵀ·M·q̇` the kinetic energy.
@@ -83,44 +86,140 @@ fn check_mass_matrix(model: &Model, data: &DynamicsData) -> Result<(), DynamicsE
     crate::error::check_output(model, data, "mass matrix", m)
 }
 
-/// The CRBA sweeps (inputs already checked). Returns the sum of every entry written once
-/// (each lower-triangle entry and the diagonal, armature included), the output check's probe:
-/// it is finite exactly when those entries are, unless finite entries overflow the sum.
-///
-/// Body-local composite inertias (Pinocchio's `Convention::LOCAL`); each body's force columns
-/// `Icᵢ·Sᵢ` are carried up to every ancestor, and each composite inertia moves to its parent
-/// with the joint and placement rotations in their cheap forms (a few multiplications for
-/// axis-aligned joints and placements).
+/// The CRBA sweeps of one state (inputs already checked): the generic [`place`] and [`sweep`]
+/// on `f64`, into [`DynamicsData::mass_matrix`]. Returns the sweep's probe: the sum of every
+/// entry written once (each lower-triangle entry and the diagonal, armature included), finite
+/// exactly when those entries are, unless finite entries overflow the sum.
 pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 {
-    let bodies = model.bodies();
-    let nv = data.nv;
     let kin = data.kinematics.body_buffers_mut();
     kin.q.copy_from_slice(q);
-    let joint_models = kin.joint_models;
-    for i in 1..bodies.len() {
-        let b = &bodies[i];
-        let (x, jr) =
-            joint_models[i].placed_transform_factored(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
-        kin.parent_from_body[i] = x;
-        data.joint_rot[i] = jr;
+    let tree = Tree {
+        model,
+        joint_models: kin.joint_models,
+        steps: &data.ancestor_step,
+        body_inertia: &data.body_inertia,
+        placement_rot: &data.placement_rot,
+        armature: data.has_joint_terms.then_some(&data.armature[..]),
+    };
+    place(&tree, q, &mut *kin.parent_from_body, &mut data.joint_rot);
+    let mut out = Dense {
+        m: &mut data.mass_matrix,
+        nv: data.nv,
+    };
+    sweep(
+        &tree,
+        &*kin.parent_from_body,
+        &data.joint_rot,
+        &mut data.composite,
+        &mut out,
+    )
+}
+
+/// What the CRBA sweeps read: the model's bodies and joint models, and the constants the data
+/// keeps per body.
+pub(crate) struct Tree<'a> {
+    pub(crate) model: &'a Model,
+    pub(crate) joint_models: &'a [JointModel],
+    pub(crate) steps: &'a [AncestorStep],
+    /// Each body's own inertia about its origin.
+    pub(crate) body_inertia: &'a [OriginInertia],
+    /// The form of each body's placement rotation.
+    pub(crate) placement_rot: &'a [RotationForm],
+    /// The armature per degree of freedom, when the joint terms are included.
+    pub(crate) armature: Option<&'a [f64]>,
+}
+
+impl<'a> Tree<'a> {
+    /// The sweeps' view of `model` and `data`.
+    pub(crate) fn of(model: &'a Model, data: &'a DynamicsData) -> Self {
+        Self {
+            model,
+            joint_models: data.kinematics.joint_models(),
+            steps: &data.ancestor_step,
+            body_inertia: &data.body_inertia,
+            placement_rot: &data.placement_rot,
+            armature: data.has_joint_terms.then_some(&data.armature[..]),
+        }
     }
-    let (joint_models, parent_from_body) = (
-        data.kinematics.joint_models(),
-        data.kinematics.parent_from_body(),
-    );
-    let steps = &data.ancestor_step[..];
-    let m = &mut data.mass_matrix;
-    let mut f = [Force::ZERO; 6];
-    let mut col = [0.0; 6];
-    let mut probe = 0.0;
+}
+
+/// Where the CRBA sweep's entries go, in the order it computes them: a matrix of one state,
+/// or the lane buffers of a block of states.
+pub(crate) trait Entries<T: Real> {
+    /// Entry `(r, c)` and its mirror `(c, r)`.
+    fn put(&mut self, r: usize, c: usize, x: T);
+    /// Adds `x` to diagonal entry `k` (after every [`Entries::put`]) and returns the sum.
+    fn add_diagonal(&mut self, k: usize, x: f64) -> T;
+}
+
+/// The row-major `nv x nv` matrix of one state.
+struct Dense<'a> {
+    m: &'a mut [f64],
+    nv: usize,
+}
+
+impl Entries<f64> for Dense<'_> {
+    #[inline(always)]
+    fn put(&mut self, r: usize, c: usize, x: f64) {
+        self.m[r * self.nv + c] = x;
+        self.m[c * self.nv + r] = x;
+    }
+
+    #[inline(always)]
+    fn add_diagonal(&mut self, k: usize, x: f64) -> f64 {
+        let d = &mut self.m[k * self.nv + k];
+        *d += x;
+        *d
+    }
+}
+
+/// Each body's placement `parent_from_body` and, for a revolute joint about a coordinate axis,
+/// the joint's rotation apart (for [`JointModel::inertia_to_parent`]); written once for one
+/// state and for lanes.
+#[inline(always)]
+pub(crate) fn place<T: Real>(
+    tree: &Tree<'_>,
+    q: &[T],
+    parent_from_body: &mut (impl IndexMut<usize, Output = Se3<T>> + ?Sized),
+    joint_rot: &mut (impl IndexMut<usize, Output = JointRot<T>> + ?Sized),
+) {
+    for (i, b) in tree.model.bodies().iter().enumerate().skip(1) {
+        let (x, jr) = tree.joint_models[i]
+            .placed_transform_factored(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+        parent_from_body[i].assign(&x);
+        joint_rot[i] = jr;
+    }
+}
+
+/// The composite rigid-body sweep, written once for one state and for lanes: body-local
+/// composite inertias (Pinocchio's `Convention::LOCAL`); each body's force columns `Icᵢ·Sᵢ` are
+/// carried up to every ancestor, and each composite inertia moves to its parent with the joint
+/// and placement rotations in their cheap forms (a few multiplications for axis-aligned joints
+/// and placements). The entries go to `out` (bodies from last to first; each body's diagonal
+/// block, then its rows of each ancestor from the parent up), then the armature. Returns the
+/// sum of the entries (the output check's probe).
+#[inline(always)]
+pub(crate) fn sweep<T: Real>(
+    tree: &Tree<'_>,
+    parent_from_body: &(impl Index<usize, Output = Se3<T>> + ?Sized),
+    joint_rot: &(impl Index<usize, Output = JointRot<T>> + ?Sized),
+    composite: &mut (impl IndexMut<usize, Output = OriginInertia<T>> + ?Sized),
+    out: &mut impl Entries<T>,
+) -> T {
+    let bodies = tree.model.bodies();
+    let (joint_models, steps) = (tree.joint_models, tree.steps);
+    // Scratch for multi-DoF joints, each entry written before it is read.
+    let mut f = [Force::<T>::zero(); 6];
+    let mut col = [T::ZERO; 6];
+    let mut probe = T::ZERO;
     for i in (1..bodies.len()).rev() {
         let b = &bodies[i];
         let (iv, ni) = (b.idx_v, b.nv);
         // A leaf's composite inertia is its own; the others were started by their last child.
         let ic = if steps[i].leaf {
-            data.body_inertia[i]
+            OriginInertia::from_const(&tree.body_inertia[i])
         } else {
-            data.composite[i]
+            composite[i]
         };
         // F = Icᵢ·Sᵢ and the diagonal block Sᵢᵀ·Icᵢ·Sᵢ.
         let jm = &joint_models[i];
@@ -128,14 +227,13 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
             Some(f0) => f0,
             None => {
                 for k in 0..ni {
-                    f[k] = ic.mul_motion(&jm.subspace_column(k));
+                    f[k] = ic.mul_motion(&Motion::from_const(&jm.subspace_column(k)));
                 }
                 for k in 0..ni {
                     jm.project_force(&f[k], &mut col[..ni]);
                     for l in k..ni {
                         probe += col[l];
-                        m[(iv + l) * nv + iv + k] = col[l];
-                        m[(iv + k) * nv + iv + l] = col[l];
+                        out.put(iv + l, iv + k, col[l]);
                     }
                 }
                 f[0]
@@ -146,7 +244,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
             let mut fk = f0;
             if let Some(d) = jm.project_axis(&fk) {
                 probe += d;
-                m[iv * nv + iv] = d;
+                out.put(iv, iv, d);
             }
             let mut j = i;
             loop {
@@ -159,10 +257,9 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
                 if step.last {
                     // The last ancestor, about or along a coordinate axis: only its component
                     // of the moved force is needed.
-                    let v = axis_component(x, &fk, step.kind);
+                    let v = axis_component_of(x, &fk, step.kind);
                     probe += v;
-                    m[jv * nv + iv] = v;
-                    m[iv * nv + jv] = v;
+                    out.put(jv, iv, v);
                     break;
                 }
                 fk = x.act_force(&fk);
@@ -170,21 +267,22 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
                 if step.kind < AncestorStep::FLOATING {
                     let v = component(&fk, step.kind);
                     probe += v;
-                    m[jv * nv + iv] = v;
-                    m[iv * nv + jv] = v;
+                    out.put(jv, iv, v);
                 } else {
                     let nj = bodies[j].nv;
                     if step.kind == AncestorStep::FLOATING {
                         // A floating base's rows are the wrench itself (inlined: every
                         // column of a floating-base robot ends here).
-                        col[..6].copy_from_slice(&fk.to_array());
+                        for l in 0..3 {
+                            col[l] = fk.linear.get(l);
+                            col[l + 3] = fk.angular.get(l);
+                        }
                     } else {
                         joint_models[j].project_force(&fk, &mut col[..nj]);
                     }
                     for l in 0..nj {
                         probe += col[l];
-                        m[(jv + l) * nv + iv] = col[l];
-                        m[iv * nv + jv + l] = col[l];
+                        out.put(jv + l, iv, col[l]);
                     }
                 }
             }
@@ -204,8 +302,7 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
                     joint_models[j].project_force(&f[k], &mut col[..nj]);
                     for l in 0..nj {
                         probe += col[l];
-                        m[(jv + l) * nv + iv + k] = col[l];
-                        m[(iv + k) * nv + jv + l] = col[l];
+                        out.put(jv + l, iv + k, col[l]);
                     }
                 }
             }
@@ -213,23 +310,22 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
         if b.parent != 0 {
             let moved = jm.inertia_to_parent(
                 &ic,
-                data.joint_rot[i],
-                &data.placement_rot[i],
+                joint_rot[i],
+                &tree.placement_rot[i],
                 &parent_from_body[i],
             );
             if steps[i].opens_parent {
-                let mut c = data.body_inertia[b.parent];
+                let mut c = OriginInertia::from_const(&tree.body_inertia[b.parent]);
                 c.add_assign(&moved);
-                data.composite[b.parent] = c;
+                composite[b.parent] = c;
             } else {
-                data.composite[b.parent].add_assign(&moved);
+                composite[b.parent].add_assign(&moved);
             }
         }
     }
-    if data.has_joint_terms {
-        for k in 0..nv {
-            m[k * nv + k] += data.armature[k];
-            probe += m[k * nv + k];
+    if let Some(armature) = tree.armature {
+        for (k, a) in armature.iter().enumerate() {
+            probe += out.add_diagonal(k, *a);
         }
     }
     probe
@@ -238,41 +334,52 @@ pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 
 /// Component `c` of a force in `[linear; angular]` order (`c < 6`), as
 /// [`JointModel::project_axis`] reads it.
 #[inline(always)]
-fn component(f: &Force, c: u8) -> f64 {
-    match c {
-        0 => f.linear.x,
-        1 => f.linear.y,
-        2 => f.linear.z,
-        3 => f.angular.x,
-        4 => f.angular.y,
-        _ => f.angular.z,
+fn component<T: Real>(f: &Force<T>, c: u8) -> T {
+    if c < 3 {
+        f.linear.get(usize::from(c))
+    } else {
+        f.angular.get(usize::from(c - 3))
     }
 }
 
-/// Component `c` (`[linear; angular]` order, `c < 6`) of `x.act_force(f)`, with the same
-/// operations in the same order, so it equals that component of the whole product bit for bit at
-/// a third of its cost.
+/// Row `i` of `R·v`, summed as `DMat3 * DVec3` sums its columns.
 #[inline(always)]
-fn axis_component(x: &Se3, f: &Force, c: u8) -> f64 {
-    let (k, angular) = if c < 3 {
-        (usize::from(c), false)
-    } else {
-        (usize::from(c - 3), true)
-    };
+fn row<T: Real>(r: &T::M3, i: usize, v: &T::V3) -> T {
+    r.col(0).get(i) * v.get(0) + r.col(1).get(i) * v.get(1) + r.col(2).get(i) * v.get(2)
+}
+
+/// Component `C` (`[linear; angular]` order) of `x.act_force(f)`, with the same operations in
+/// the same order, so it equals that component of the whole product bit for bit at a third of
+/// its cost.
+#[inline(always)]
+fn axis_component<T: Real, const C: u8>(x: &Se3<T>, f: &Force<T>) -> T {
     let r = &x.rotation;
-    // Row `i` of `R·v`, summed as `DMat3 * DVec3` sums its columns.
-    let row = |i: usize, v: DVec3| (r.x_axis[i] * v.x + r.y_axis[i] * v.y) + r.z_axis[i] * v.z;
-    if !angular {
-        return row(k, f.linear);
+    if C < 3 {
+        return row::<T>(r, usize::from(C), &f.linear);
     }
-    let t = x.translation;
-    // Component `k` of `t × (R·f)`, as `DVec3::cross` computes it.
-    let cross = match k {
-        0 => t.y * row(2, f.linear) - row(1, f.linear) * t.z,
-        1 => t.z * row(0, f.linear) - row(2, f.linear) * t.x,
-        _ => t.x * row(1, f.linear) - row(0, f.linear) * t.y,
+    let t = &x.translation;
+    let (tx, ty, tz) = (t.get(0), t.get(1), t.get(2));
+    // Component `C - 3` of `t × (R·f)`, as `DVec3::cross` computes it.
+    let cross = match C - 3 {
+        0 => ty * row::<T>(r, 2, &f.linear) - row::<T>(r, 1, &f.linear) * tz,
+        1 => tz * row::<T>(r, 0, &f.linear) - row::<T>(r, 2, &f.linear) * tx,
+        _ => tx * row::<T>(r, 1, &f.linear) - row::<T>(r, 0, &f.linear) * ty,
     };
-    row(k, f.angular) + cross
+    row::<T>(r, usize::from(C - 3), &f.angular) + cross
+}
+
+/// [`axis_component`] for a component known at run time (`c < 6`): the constant keeps the
+/// entries in registers.
+#[inline(always)]
+fn axis_component_of<T: Real>(x: &Se3<T>, f: &Force<T>, c: u8) -> T {
+    match c {
+        0 => axis_component::<T, 0>(x, f),
+        1 => axis_component::<T, 1>(x, f),
+        2 => axis_component::<T, 2>(x, f),
+        3 => axis_component::<T, 3>(x, f),
+        4 => axis_component::<T, 4>(x, f),
+        _ => axis_component::<T, 5>(x, f),
+    }
 }
 
 #[cfg(test)]
@@ -287,11 +394,11 @@ mod tests {
         let whole = x.act_force(&f).to_array();
         for k in 0..3u8 {
             assert_eq!(
-                axis_component(&x, &f, k).to_bits(),
+                axis_component_of(&x, &f, k).to_bits(),
                 whole[k as usize].to_bits()
             );
             assert_eq!(
-                axis_component(&x, &f, 3 + k).to_bits(),
+                axis_component_of(&x, &f, 3 + k).to_bits(),
                 whole[3 + k as usize].to_bits()
             );
         }

@@ -149,6 +149,16 @@ macro_rules! spatial_vector_common {
                 }
             }
 
+            /// A constant vector in this number type (in every lane).
+            #[inline(always)]
+            #[must_use]
+            pub fn from_const(x: &$t) -> Self {
+                Self {
+                    linear: T::V3::from_const(x.linear),
+                    angular: T::V3::from_const(x.angular),
+                }
+            }
+
             /// Every coordinate times `s`.
             #[inline(always)]
             #[must_use]

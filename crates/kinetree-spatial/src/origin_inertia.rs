@@ -16,14 +16,17 @@ use glam::DVec3;
 /// let v = Motion::new(DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.0, 0.0, 2.0));
 /// assert!(y.mul_motion(&v).abs_diff_eq(&body.mul_motion(&v), 1e-15));
 /// ```
+///
+/// Generic over the number type ([`Real`]) as the other spatial types: `OriginInertia` is the
+/// `f64` form, `OriginInertia<T>` the one the generic algorithms carry.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct OriginInertia {
+pub struct OriginInertia<T: Real = f64> {
     /// Mass (kg).
-    pub m: f64,
+    pub m: T,
     /// First moment of mass `m·c` (kg·m).
-    pub h: DVec3,
+    pub h: T::V3,
     /// Rotational inertia about the origin (kg·m²).
-    pub i: Symmetric3,
+    pub i: Symmetric3<T>,
 }
 
 impl OriginInertia {
@@ -44,6 +47,19 @@ impl OriginInertia {
             i: inertia.rotational_about(DVec3::ZERO),
         }
     }
+}
+
+impl<T: Real> OriginInertia<T> {
+    /// A constant inertia in this number type (in every lane).
+    #[inline(always)]
+    #[must_use]
+    pub fn from_const(y: &OriginInertia) -> Self {
+        Self {
+            m: T::splat(y.m),
+            h: T::V3::from_const(y.h),
+            i: Symmetric3::from_const(&y.i),
+        }
+    }
 
     /// `self += o` (both about the same origin).
     #[inline(always)]
@@ -56,10 +72,10 @@ impl OriginInertia {
     /// The momentum `I·s` of a motion `s` (`[linear; angular]`).
     #[inline(always)]
     #[must_use]
-    pub fn mul_motion<T: Real>(&self, s: &Motion<T>) -> Force<T> {
+    pub fn mul_motion(&self, s: &Motion<T>) -> Force<T> {
         Force {
-            linear: s.linear.scale_by(self.m) + s.angular.cross_const(self.h),
-            angular: T::V3::const_cross(self.h, &s.linear) + self.i.mul_vector::<T>(&s.angular),
+            linear: s.linear.scale(self.m) + s.angular.cross(&self.h),
+            angular: self.h.cross(&s.linear) + self.i.mul_vec(&s.angular),
         }
     }
 
@@ -67,21 +83,23 @@ impl OriginInertia {
     /// pure translation of the frame: the body moves by `t`).
     #[inline(always)]
     #[must_use]
-    pub fn translated(&self, t: DVec3) -> Self {
-        let u = self.h + t * (0.5 * self.m);
-        let d = 2.0 * u.dot(t);
+    pub fn translated(&self, t: &T::V3) -> Self {
+        let u = self.h + t.scale(self.m * 0.5);
+        let d = u.dot(t) * 2.0;
         let ir = &self.i;
+        let (tx, ty, tz) = (t.get(0), t.get(1), t.get(2));
+        let (ux, uy, uz) = (u.get(0), u.get(1), u.get(2));
         Self {
             m: self.m,
-            h: self.h + t * self.m,
-            i: Symmetric3::new(
-                ir.xx - 2.0 * t.x * u.x + d,
-                ir.xy - (t.x * u.y + u.x * t.y),
-                ir.xz - (t.x * u.z + u.x * t.z),
-                ir.yy - 2.0 * t.y * u.y + d,
-                ir.yz - (t.y * u.z + u.y * t.z),
-                ir.zz - 2.0 * t.z * u.z + d,
-            ),
+            h: self.h + t.scale(self.m),
+            i: Symmetric3 {
+                xx: ir.xx - tx * 2.0 * ux + d,
+                xy: ir.xy - (tx * uy + ux * ty),
+                xz: ir.xz - (tx * uz + ux * tz),
+                yy: ir.yy - ty * 2.0 * uy + d,
+                yz: ir.yz - (ty * uz + uy * tz),
+                zz: ir.zz - tz * 2.0 * uz + d,
+            },
         }
     }
 
@@ -89,7 +107,7 @@ impl OriginInertia {
     /// the rotation applied in its cheap form.
     #[inline(always)]
     #[must_use]
-    pub fn rotated(&self, r: &RotationForm) -> Self {
+    pub fn rotated(&self, r: &RotationForm<T>) -> Self {
         Self {
             m: self.m,
             h: r.apply(self.h),
@@ -114,7 +132,7 @@ mod tests {
         let y = OriginInertia::from_inertia(&inertia);
         let a = y
             .rotated(&RotationForm::General(x.rotation))
-            .translated(x.translation);
+            .translated(&x.translation);
         let b = OriginInertia::from_inertia(&inertia.transformed(&x));
         assert!((a.m - b.m).abs() < 1e-15 && (a.h - b.h).length() < 1e-14);
         assert!(a.i.to_mat3().abs_diff_eq(b.i.to_mat3(), 1e-14));
@@ -125,5 +143,58 @@ mod tests {
             sum.mul_motion(&v)
                 .abs_diff_eq(&(inertia.mul_motion(&v) * 2.0), 1e-14)
         );
+    }
+
+    #[test]
+    fn every_lane_is_the_one_state_result_bit_for_bit() {
+        use crate::lanes::{LMat3, LMotion, LVec3, Lanes};
+        let xs = [
+            Se3::from_xyz_rpy([0.1, 0.2, 0.3], [0.4, 0.5, 0.6]),
+            Se3::from_xyz_rpy([-0.3, 0.0, 0.7], [0.1, -0.2, 0.3]),
+            Se3::from_xyz_rpy([1.3, -2.0, 0.1], [3.0, 1.2, -2.3]),
+            Se3::from_xyz_rpy([0.0, 0.5, -0.5], [-1.0, 0.0, 2.0]),
+        ];
+        let y = OriginInertia::from_inertia(&Inertia::new(
+            2.5,
+            DVec3::new(0.1, -0.2, 0.3),
+            Symmetric3::new(0.4, 0.01, -0.02, 0.5, 0.03, 0.6),
+        ));
+        let angles: [f64; 4] = [0.3, -1.2, 2.9, 0.0];
+        let mut rot = LMat3::<4>::default();
+        let mut t = LVec3::<4>::ZERO;
+        let (mut s, mut c) = (Lanes::<4>::ZERO, Lanes::<4>::ZERO);
+        let mut m = LMotion::<4>::zero();
+        for l in 0..4 {
+            rot.set_lane(l, &xs[l].rotation);
+            t.set_lane(l, xs[l].translation);
+            (s.0[l], c.0[l]) = angles[l].sin_cos();
+            m.set_lane(l, &Motion::new(xs[l].translation, xs[l].rotation.x_axis));
+        }
+        let constant = RotationForm::classify(&xs[1].rotation);
+        for k in 0..3 {
+            let lanes = OriginInertia::<Lanes<4>>::from_const(&y)
+                .rotated(&RotationForm::Axis { k, s, c })
+                .rotated(&RotationForm::from_const(&constant))
+                .rotated(&RotationForm::General(rot))
+                .translated(&t);
+            let mut sum = lanes;
+            sum.add_assign(&lanes);
+            let f = sum.mul_motion(&m);
+            for l in 0..4 {
+                let (sl, cl) = (s.0[l], c.0[l]);
+                let one = y
+                    .rotated(&RotationForm::Axis { k, s: sl, c: cl })
+                    .rotated(&constant)
+                    .rotated(&RotationForm::General(xs[l].rotation))
+                    .translated(&xs[l].translation);
+                let mut two = one;
+                two.add_assign(&one);
+                assert_eq!(f.lane(l), two.mul_motion(&m.lane(l)));
+                assert_eq!(lanes.h.lane(l), one.h);
+                let i = &lanes.i;
+                let got = [i.xx, i.xy, i.xz, i.yy, i.yz, i.zz].map(|x| x.0[l]);
+                assert_eq!(got, one.i.to_urdf_array());
+            }
+        }
     }
 }

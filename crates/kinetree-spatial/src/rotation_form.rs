@@ -1,6 +1,7 @@
 //! [`RotationForm`]: a rotation in the cheapest form the kernels can apply it in.
 
 use crate::Symmetric3;
+use crate::real::{Matrix3, Real, Vector3};
 use glam::{DMat3, DVec3};
 
 /// A rotation as the kernels apply it: the identity, a rotation about a coordinate axis (given
@@ -15,8 +16,11 @@ use glam::{DMat3, DVec3};
 /// let v = DVec3::new(1.0, 2.0, 3.0);
 /// assert!((form.apply(v) - r * v).length() < 1e-15);
 /// ```
+///
+/// Generic over the number type ([`Real`]): `RotationForm` holds `f64`s, `RotationForm<T>` the
+/// angles (or matrix) of a block of states in lanes.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum RotationForm {
+pub enum RotationForm<T: Real = f64> {
     /// No rotation.
     Identity,
     /// Rotation about coordinate axis `k` (0, 1, 2) by the angle with sine `s` and cosine `c`.
@@ -24,33 +28,19 @@ pub enum RotationForm {
         /// The axis: 0, 1, 2 for x, y, z.
         k: usize,
         /// Sine of the angle.
-        s: f64,
+        s: T,
         /// Cosine of the angle.
-        c: f64,
+        c: T,
     },
     /// Any rotation matrix.
-    General(DMat3),
+    General(T::M3),
 }
 
-/// Expands `$body` once per axis with `$i`, `$j` the other two axes in cyclic order (rotation
-/// about `k` maps `e_i → c·e_i + s·e_j`).
-macro_rules! per_axis {
-    ($k:expr, |$i:ident, $j:ident, $kk:ident| $body:expr) => {
-        match $k {
-            0 => {
-                let ($i, $j, $kk) = (1usize, 2usize, 0usize);
-                $body
-            }
-            1 => {
-                let ($i, $j, $kk) = (2usize, 0usize, 1usize);
-                $body
-            }
-            _ => {
-                let ($i, $j, $kk) = (0usize, 1usize, 2usize);
-                $body
-            }
-        }
-    };
+/// The other two axes `(i, j)` of a rotation about axis `k` in cyclic order (it maps
+/// `e_i → c·e_i + s·e_j`).
+#[inline(always)]
+const fn others(k: usize) -> (usize, usize) {
+    ((k + 1) % 3, (k + 2) % 3)
 }
 
 impl RotationForm {
@@ -63,7 +53,7 @@ impl RotationForm {
         }
         let cols = [r.x_axis, r.y_axis, r.z_axis];
         for k in 0..3 {
-            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+            let (i, j) = others(k);
             let mut e = DVec3::ZERO;
             e[k] = 1.0;
             // Column k is e_k, row k is e_kᵀ, and the (i, j) block is [[c, -s], [s, c]].
@@ -76,44 +66,78 @@ impl RotationForm {
         }
         Self::General(*r)
     }
+}
+
+impl<T: Real> RotationForm<T> {
+    /// A constant rotation in this number type (in every lane).
+    #[inline(always)]
+    #[must_use]
+    pub fn from_const(r: &RotationForm) -> Self {
+        match *r {
+            RotationForm::Identity => Self::Identity,
+            RotationForm::Axis { k, s, c } => Self::Axis {
+                k,
+                s: T::splat(s),
+                c: T::splat(c),
+            },
+            RotationForm::General(m) => Self::General(T::M3::from_const(&m)),
+        }
+    }
 
     /// `R·v`.
     #[inline(always)]
     #[must_use]
-    pub fn apply(&self, v: DVec3) -> DVec3 {
+    pub fn apply(&self, v: T::V3) -> T::V3 {
+        // The axis is made a constant so that the entries stay in registers (with the axis known
+        // only at run time, the lane kernels read and wrote them through memory).
         match *self {
             Self::Identity => v,
-            Self::Axis { k, s, c } => per_axis!(k, |i, j, _kk| {
-                let mut out = v;
-                out[i] = c * v[i] - s * v[j];
-                out[j] = s * v[i] + c * v[j];
-                out
-            }),
-            Self::General(r) => r * v,
+            Self::Axis { k: 0, s, c } => axis_apply::<T, 0>(s, c, &v),
+            Self::Axis { k: 1, s, c } => axis_apply::<T, 1>(s, c, &v),
+            Self::Axis { s, c, .. } => axis_apply::<T, 2>(s, c, &v),
+            Self::General(r) => r.mul_vec(&v),
         }
     }
 
     /// `R·S·Rᵀ` for a symmetric `S`.
     #[inline(always)]
     #[must_use]
-    pub fn apply_sym(&self, m: &Symmetric3) -> Symmetric3 {
+    pub fn apply_sym(&self, m: &Symmetric3<T>) -> Symmetric3<T> {
         match *self {
             Self::Identity => *m,
-            Self::Axis { k, s, c } => per_axis!(k, |i, j, kk| {
-                let (a, b, d) = (m.get(i, i), m.get(i, j), m.get(j, j));
-                let (ik, jk) = (m.get(i, kk), m.get(j, kk));
-                let (cc, ss, cs) = (c * c, s * s, c * s);
-                let mut out = *m;
-                out.set(i, i, cc * a - 2.0 * cs * b + ss * d);
-                out.set(j, j, ss * a + 2.0 * cs * b + cc * d);
-                out.set(i, j, cs * (a - d) + (cc - ss) * b);
-                out.set(i, kk, c * ik - s * jk);
-                out.set(j, kk, s * ik + c * jk);
-                out
-            }),
+            Self::Axis { k: 0, s, c } => axis_apply_sym::<T, 0>(s, c, m),
+            Self::Axis { k: 1, s, c } => axis_apply_sym::<T, 1>(s, c, m),
+            Self::Axis { s, c, .. } => axis_apply_sym::<T, 2>(s, c, m),
             Self::General(r) => m.rotate(&r),
         }
     }
+}
+
+/// A rotation about coordinate axis `K` (sine `s`, cosine `c`) applied to `v`.
+#[inline(always)]
+fn axis_apply<T: Real, const K: usize>(s: T, c: T, v: &T::V3) -> T::V3 {
+    let (i, j) = others(K);
+    let (vi, vj) = (v.get(i), v.get(j));
+    let mut out = *v;
+    *out.get_mut(i) = c * vi - s * vj;
+    *out.get_mut(j) = s * vi + c * vj;
+    out
+}
+
+/// A rotation about coordinate axis `K` applied to a symmetric matrix (`R·S·Rᵀ`).
+#[inline(always)]
+fn axis_apply_sym<T: Real, const K: usize>(s: T, c: T, m: &Symmetric3<T>) -> Symmetric3<T> {
+    let (i, j) = others(K);
+    let (a, b, d) = (m.get(i, i), m.get(i, j), m.get(j, j));
+    let (ik, jk) = (m.get(i, K), m.get(j, K));
+    let (cc, ss, cs) = (c * c, s * s, c * s);
+    let mut out = *m;
+    out.set(i, i, cc * a - cs * 2.0 * b + ss * d);
+    out.set(j, j, ss * a + cs * 2.0 * b + cc * d);
+    out.set(i, j, cs * (a - d) + (cc - ss) * b);
+    out.set(i, K, c * ik - s * jk);
+    out.set(j, K, s * ik + c * jk);
+    out
 }
 
 #[cfg(test)]

@@ -1,31 +1,32 @@
 //! Symmetric 3x3 matrices, used for rotational inertia tensors.
 
-use crate::real::{Real, Vector3};
+use crate::real::{Matrix3, Real, Vector3};
 use core::fmt;
 use core::ops::{Add, AddAssign, Mul, Sub};
 use glam::{DMat3, DVec3};
 
 /// A symmetric 3x3 matrix stored as its six independent entries.
 ///
-/// Used for rotational inertia tensors (kg·m²). The entries follow URDF's names: `ixx, ixy, ixz,
+/// Used for rotational inertia tensors (kg·m²). Generic over the number type ([`Real`]): `Symmetric3` is the `f64` matrix, `Symmetric3<T>`
+/// the one the generic algorithms carry (a matrix per lane for SIMD lanes). The entries follow URDF's names: `ixx, ixy, ixz,
 /// iyy, iyz, izz` are the matrix entries (products of inertia enter with their sign as written in
 /// URDF, i.e. `ixy` is the (0, 1) entry of the tensor).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[doc(alias = "InertiaTensor")]
-pub struct Symmetric3 {
+pub struct Symmetric3<T: Real = f64> {
     /// Entry (0, 0).
-    pub xx: f64,
+    pub xx: T,
     /// Entry (0, 1) = (1, 0).
-    pub xy: f64,
+    pub xy: T,
     /// Entry (0, 2) = (2, 0).
-    pub xz: f64,
+    pub xz: T,
     /// Entry (1, 1).
-    pub yy: f64,
+    pub yy: T,
     /// Entry (1, 2) = (2, 1).
-    pub yz: f64,
+    pub yz: T,
     /// Entry (2, 2).
-    pub zz: f64,
+    pub zz: T,
 }
 
 /// Why a rotational inertia is not physically valid (see [`Symmetric3::check_inertia`]).
@@ -252,64 +253,6 @@ impl Symmetric3 {
         )
     }
 
-    /// `R · self · Rᵀ`: the same tensor expressed in a frame rotated by `r`.
-    #[inline]
-    #[must_use]
-    pub fn rotate(&self, r: &DMat3) -> Self {
-        // M = R·S by columns, then (M·Rᵀ)_ij = Σ_k M_ik·R_jk for the six entries i ≤ j only.
-        let m0 = *r * self.column(0);
-        let m1 = *r * self.column(1);
-        let m2 = *r * self.column(2);
-        let entry =
-            |i: usize, j: usize| m0[i] * r.x_axis[j] + m1[i] * r.y_axis[j] + m2[i] * r.z_axis[j];
-        Self::new(
-            entry(0, 0),
-            entry(0, 1),
-            entry(0, 2),
-            entry(1, 1),
-            entry(1, 2),
-            entry(2, 2),
-        )
-    }
-
-    /// Column (= row) `k` of the matrix (`k` is 0, 1 or 2; larger values give column 2).
-    #[inline(always)]
-    #[must_use]
-    pub fn column(&self, k: usize) -> DVec3 {
-        match k {
-            0 => DVec3::new(self.xx, self.xy, self.xz),
-            1 => DVec3::new(self.xy, self.yy, self.yz),
-            _ => DVec3::new(self.xz, self.yz, self.zz),
-        }
-    }
-
-    /// Entry `(i, j)` (indices 0, 1, 2; larger values count as 2).
-    #[inline(always)]
-    #[must_use]
-    pub fn get(&self, i: usize, j: usize) -> f64 {
-        match (i.min(j), i.max(j)) {
-            (0, 0) => self.xx,
-            (0, 1) => self.xy,
-            (0, _) => self.xz,
-            (1, 1) => self.yy,
-            (1, _) => self.yz,
-            _ => self.zz,
-        }
-    }
-
-    /// Sets entry `(i, j)` and its mirror `(j, i)` (indices as [`Symmetric3::get`]).
-    #[inline(always)]
-    pub fn set(&mut self, i: usize, j: usize, x: f64) {
-        match (i.min(j), i.max(j)) {
-            (0, 0) => self.xx = x,
-            (0, 1) => self.xy = x,
-            (0, _) => self.xz = x,
-            (1, 1) => self.yy = x,
-            (1, _) => self.yz = x,
-            _ => self.zz = x,
-        }
-    }
-
     /// `Rᵀ · self · R`.
     #[inline]
     #[must_use]
@@ -391,48 +334,142 @@ impl Symmetric3 {
     }
 }
 
-impl Add for Symmetric3 {
-    type Output = Self;
-    #[inline]
-    fn add(self, o: Self) -> Self {
-        Self::new(
-            self.xx + o.xx,
-            self.xy + o.xy,
-            self.xz + o.xz,
-            self.yy + o.yy,
-            self.yz + o.yz,
-            self.zz + o.zz,
+impl<T: Real> Symmetric3<T> {
+    /// A constant matrix in this number type (in every lane).
+    #[inline(always)]
+    #[must_use]
+    pub fn from_const(s: &Symmetric3) -> Self {
+        Self {
+            xx: T::splat(s.xx),
+            xy: T::splat(s.xy),
+            xz: T::splat(s.xz),
+            yy: T::splat(s.yy),
+            yz: T::splat(s.yz),
+            zz: T::splat(s.zz),
+        }
+    }
+
+    /// Column (= row) `k` of the matrix (`k` is 0, 1 or 2; larger values give column 2).
+    #[inline(always)]
+    #[must_use]
+    pub fn column(&self, k: usize) -> T::V3 {
+        match k {
+            0 => T::V3::new(self.xx, self.xy, self.xz),
+            1 => T::V3::new(self.xy, self.yy, self.yz),
+            _ => T::V3::new(self.xz, self.yz, self.zz),
+        }
+    }
+
+    /// Entry `(i, j)` (indices 0, 1, 2; larger values count as 2).
+    #[inline(always)]
+    #[must_use]
+    pub fn get(&self, i: usize, j: usize) -> T {
+        match (i.min(j), i.max(j)) {
+            (0, 0) => self.xx,
+            (0, 1) => self.xy,
+            (0, _) => self.xz,
+            (1, 1) => self.yy,
+            (1, _) => self.yz,
+            _ => self.zz,
+        }
+    }
+
+    /// Sets entry `(i, j)` and its mirror `(j, i)` (indices as [`Symmetric3::get`]).
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, j: usize, x: T) {
+        match (i.min(j), i.max(j)) {
+            (0, 0) => self.xx = x,
+            (0, 1) => self.xy = x,
+            (0, _) => self.xz = x,
+            (1, 1) => self.yy = x,
+            (1, _) => self.yz = x,
+            _ => self.zz = x,
+        }
+    }
+
+    /// The product with a vector of the same number type ([`Symmetric3::mul_vector`] multiplies
+    /// a constant matrix with a vector of any number type).
+    #[inline(always)]
+    #[must_use]
+    pub fn mul_vec(&self, v: &T::V3) -> T::V3 {
+        let (x, y, z) = (v.get(0), v.get(1), v.get(2));
+        T::V3::new(
+            x * self.xx + y * self.xy + z * self.xz,
+            x * self.xy + y * self.yy + z * self.yz,
+            x * self.xz + y * self.yz + z * self.zz,
         )
+    }
+
+    /// `R · self · Rᵀ`: the same tensor expressed in a frame rotated by `r`.
+    #[inline(always)]
+    #[must_use]
+    pub fn rotate(&self, r: &T::M3) -> Self {
+        // M = R·S by columns, then (M·Rᵀ)_ij = Σ_k M_ik·R_jk for the six entries i ≤ j only.
+        let m = [
+            r.mul_vec(&self.column(0)),
+            r.mul_vec(&self.column(1)),
+            r.mul_vec(&self.column(2)),
+        ];
+        Self {
+            xx: rotated_entry::<T>(&m, r, 0, 0),
+            xy: rotated_entry::<T>(&m, r, 0, 1),
+            xz: rotated_entry::<T>(&m, r, 0, 2),
+            yy: rotated_entry::<T>(&m, r, 1, 1),
+            yz: rotated_entry::<T>(&m, r, 1, 2),
+            zz: rotated_entry::<T>(&m, r, 2, 2),
+        }
     }
 }
 
-impl AddAssign for Symmetric3 {
-    #[inline]
+/// Entry `(i, j)` of `M·Rᵀ` for the columns `m` of `M` (a plain function, not a closure: see
+/// the note in `Se3`'s generic kernels about closures and SIMD features).
+#[inline(always)]
+fn rotated_entry<T: Real>(m: &[T::V3; 3], r: &T::M3, i: usize, j: usize) -> T {
+    m[0].get(i) * r.col(0).get(j) + m[1].get(i) * r.col(1).get(j) + m[2].get(i) * r.col(2).get(j)
+}
+
+impl<T: Real> Add for Symmetric3<T> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Self {
+            xx: self.xx + o.xx,
+            xy: self.xy + o.xy,
+            xz: self.xz + o.xz,
+            yy: self.yy + o.yy,
+            yz: self.yz + o.yz,
+            zz: self.zz + o.zz,
+        }
+    }
+}
+
+impl<T: Real> AddAssign for Symmetric3<T> {
+    #[inline(always)]
     fn add_assign(&mut self, o: Self) {
         *self = *self + o;
     }
 }
 
-impl Sub for Symmetric3 {
+impl<T: Real> Sub for Symmetric3<T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn sub(self, o: Self) -> Self {
         self + o * -1.0
     }
 }
 
-impl Mul<f64> for Symmetric3 {
+impl<T: Real> Mul<f64> for Symmetric3<T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn mul(self, s: f64) -> Self {
-        Self::new(
-            self.xx * s,
-            self.xy * s,
-            self.xz * s,
-            self.yy * s,
-            self.yz * s,
-            self.zz * s,
-        )
+        Self {
+            xx: self.xx * s,
+            xy: self.xy * s,
+            xz: self.xz * s,
+            yy: self.yy * s,
+            yz: self.yz * s,
+            zz: self.zz * s,
+        }
     }
 }
 

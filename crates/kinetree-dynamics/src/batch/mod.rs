@@ -35,7 +35,6 @@
 mod aba;
 mod aba_derivatives;
 mod articulated;
-mod composite;
 mod crba;
 mod derivatives;
 mod lane_solve;

@@ -150,14 +150,14 @@ impl JointModel {
     /// other kinds (use [`JointModel::subspace_column`]).
     #[inline(always)]
     #[must_use]
-    pub fn axis_momentum(&self, y: &OriginInertia) -> Option<Force> {
+    pub fn axis_momentum<T: Real>(&self, y: &OriginInertia<T>) -> Option<Force<T>> {
         Some(match self {
-            Self::RevoluteX => axis_momentum::<0, true>(y),
-            Self::RevoluteY => axis_momentum::<1, true>(y),
-            Self::RevoluteZ => axis_momentum::<2, true>(y),
-            Self::PrismaticX => axis_momentum::<0, false>(y),
-            Self::PrismaticY => axis_momentum::<1, false>(y),
-            Self::PrismaticZ => axis_momentum::<2, false>(y),
+            Self::RevoluteX => axis_momentum::<T, 0, true>(y),
+            Self::RevoluteY => axis_momentum::<T, 1, true>(y),
+            Self::RevoluteZ => axis_momentum::<T, 2, true>(y),
+            Self::PrismaticX => axis_momentum::<T, 0, false>(y),
+            Self::PrismaticY => axis_momentum::<T, 1, false>(y),
+            Self::PrismaticZ => axis_momentum::<T, 2, false>(y),
             _ => return None,
         })
     }
@@ -313,13 +313,21 @@ fn dot_const<T: Real>(a: DVec3, x: &T::V3) -> T {
 
 /// `I·S` for an axis-aligned joint's subspace `S = e_K` (angular if `REV`, else linear).
 #[inline(always)]
-fn axis_momentum<const K: usize, const REV: bool>(y: &OriginInertia) -> Force {
+pub(crate) fn axis_momentum<T: Real, const K: usize, const REV: bool>(
+    y: &OriginInertia<T>,
+) -> Force<T> {
     if REV {
-        Force::new(unit_cross::<K>(y.h), y.i.column(K))
+        Force {
+            linear: unit_cross::<T, K>(&y.h),
+            angular: y.i.column(K),
+        }
     } else {
-        let mut lin = DVec3::ZERO;
-        lin[K] = y.m;
-        Force::new(lin, -unit_cross::<K>(y.h))
+        let mut linear = T::V3::ZERO;
+        *linear.get_mut(K) = y.m;
+        Force {
+            linear,
+            angular: -unit_cross::<T, K>(&y.h),
+        }
     }
 }
 

@@ -38,12 +38,13 @@ pub(crate) fn axis_rotation<T: Real>(k: usize, s: T, c: T) -> T::M3 {
 
 /// The joint's own rotation when it is about a coordinate axis (the revolute joints about x, y,
 /// z), as [`JointModel::placed_transform_factored`] reports it: small enough to keep per body.
+/// Generic over the number type, as the transforms.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JointRot {
+pub struct JointRot<T: Real = f64> {
     /// 0, 1, 2 for x, y, z, or 3 for no joint rotation about a coordinate axis.
     k: usize,
-    s: f64,
-    c: f64,
+    s: T,
+    c: T,
 }
 
 impl JointRot {
@@ -54,11 +55,24 @@ impl JointRot {
         s: 0.0,
         c: 1.0,
     };
+}
+
+impl<T: Real> JointRot<T> {
+    /// [`JointRot::NONE`] in this number type.
+    #[inline(always)]
+    #[must_use]
+    pub fn none() -> Self {
+        Self {
+            k: 3,
+            s: T::ZERO,
+            c: T::splat(1.0),
+        }
+    }
 
     /// The rotation in the kernels' form ([`RotationForm::Identity`] for [`JointRot::NONE`]).
     #[inline(always)]
     #[must_use]
-    pub fn form(self) -> RotationForm {
+    pub fn form(self) -> RotationForm<T> {
         if self.k < 3 {
             RotationForm::Axis {
                 k: self.k,
@@ -103,19 +117,21 @@ impl JointModel {
     /// their whole rotation must be used as the placement rotation.
     #[inline(always)]
     #[must_use]
-    pub fn placed_transform_factored(&self, placement: &Se3, q: &[f64]) -> (Se3, JointRot) {
+    pub fn placed_transform_factored<T: Real>(
+        &self,
+        placement: &Se3,
+        q: &[T],
+    ) -> (Se3<T>, JointRot<T>) {
         match self.axis_index() {
             Some((k, true)) => {
-                let (s, c) = sin_cos(q[0]);
-                (
-                    Se3::new(
-                        rotate_about_axis::<f64>(&placement.rotation, k, s, c),
-                        placement.translation,
-                    ),
-                    JointRot { k, s, c },
-                )
+                let (s, c) = q[0].sin_cos();
+                let x = Se3 {
+                    rotation: rotate_about_axis(&T::M3::from_const(&placement.rotation), k, s, c),
+                    translation: T::V3::from_const(placement.translation),
+                };
+                (x, JointRot { k, s, c })
             }
-            _ => (self.placed_transform(placement, q), JointRot::NONE),
+            _ => (self.placed_transform(placement, q), JointRot::none()),
         }
     }
 
@@ -126,21 +142,22 @@ impl JointModel {
     /// general placement rotation, the rotation of `x` is used whole.
     #[inline(always)]
     #[must_use]
-    pub fn inertia_to_parent(
+    pub fn inertia_to_parent<T: Real>(
         &self,
-        y: &OriginInertia,
-        joint: JointRot,
+        y: &OriginInertia<T>,
+        joint: JointRot<T>,
         placement: &RotationForm,
-        x: &Se3,
-    ) -> OriginInertia {
+        x: &Se3<T>,
+    ) -> OriginInertia<T> {
         // A general placement rotation costs as much as the whole rotation of `x`: one product.
         let rotated =
             if self.axis_index().is_some() && !matches!(placement, RotationForm::General(_)) {
-                y.rotated(&joint.form()).rotated(placement)
+                y.rotated(&joint.form())
+                    .rotated(&RotationForm::from_const(placement))
             } else {
                 y.rotated(&RotationForm::General(x.rotation))
             };
-        rotated.translated(x.translation)
+        rotated.translated(&x.translation)
     }
 
     /// `parent_from_body` of `body` (whose joint model this is) for the full configuration `q`
