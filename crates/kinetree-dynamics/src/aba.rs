@@ -1,12 +1,16 @@
 //! Forward dynamics: the articulated-body algorithm.
 
-use crate::data::{DynamicsData, sign};
+use crate::articulated::{ArticulatedInertia, RigidInertia};
+use crate::data::DynamicsData;
 use crate::error::{DynamicsError, check_vector};
 use crate::external::ExternalForces;
-use crate::rnea::check_inputs;
+use crate::rnea::{JointTermsRef, check_inputs};
+use core::ops::{IndexMut, Range};
+use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
-use kinetree_kinematics::spatial::glam::{DMat3, DVec3};
-use kinetree_kinematics::spatial::{Force, Inertia, Motion, Symmetric3};
+use kinetree_kinematics::spatial::glam::DVec3;
+use kinetree_kinematics::spatial::real::{Matrix3 as _, Real, Vector3 as _};
+use kinetree_kinematics::spatial::{Force, Motion, Se3};
 
 /// Relative size of an articulated pivot below which the joint counts as moving no mass.
 pub(crate) const PIVOT_TOLERANCE: f64 = 1e-13;
@@ -87,7 +91,9 @@ pub fn aba_with_external_forces<'d>(
     Ok(&data.ddq)
 }
 
-/// The three ABA sweeps (inputs already checked); the result goes to `data.ddq`.
+/// The three ABA sweeps of one state (inputs already checked): the generic passes of
+/// [`AbaSweep`] on `f64`, with the external forces and the pivot checks at their edges. The
+/// result goes to `data.ddq`; `q` and the placements to the embedded kinematics data.
 pub(crate) fn compute(
     model: &Model,
     data: &mut DynamicsData,
@@ -96,199 +102,340 @@ pub(crate) fn compute(
     tau: &[f64],
     fext: Option<&ExternalForces>,
 ) -> Result<(), DynamicsError> {
+    let singular = {
+        let kin = data.kinematics.body_buffers_mut();
+        kin.q.copy_from_slice(q);
+        let tree = AbaTree {
+            model,
+            joint_models: kin.joint_models,
+            dinv_offset: &data.dinv_offset,
+            terms: data.has_joint_terms.then_some(JointTermsRef {
+                armature: &data.armature,
+                damping: &data.damping,
+                friction: &data.friction,
+            }),
+        };
+        let mut sweep = AbaSweep {
+            parent_from_body: &mut *kin.parent_from_body,
+            world_from_body: &mut *kin.world_from_body,
+            velocity: &mut data.world_velocity,
+            bias: &mut data.bias,
+            acceleration: &mut data.acceleration,
+            subspace: &mut data.subspace,
+            force: &mut data.force,
+            u_columns: &mut data.u_columns,
+            articulated: &mut data.articulated,
+            u: &mut data.u,
+            dinv: &mut data.dinv,
+            ddq: &mut data.ddq,
+        };
+        sweep.forward(&tree, q, v);
+        if let Some(fext) = fext {
+            let force = &mut *sweep.force;
+            fext.for_each_world(&*sweep.world_from_body, |body, f| force[body] -= f);
+        }
+        // Allocates only when a pivot is refused.
+        let mut singular = Singular(Vec::new());
+        sweep.backward(&tree, v, tau, &mut singular);
+        if singular.0.is_empty() {
+            sweep.accelerations(&tree);
+        }
+        singular.0
+    };
+    if singular.is_empty() {
+        return Ok(());
+    }
     let bodies = model.bodies();
-    let nb = bodies.len();
-    // Pass 1, root to leaves: placements, velocities, bias accelerations, rigid inertias and
-    // bias forces, all in the world frame. `q` and the placements go to the embedded kinematics
-    // data.
-    let kin = data.kinematics.body_buffers_mut();
-    kin.q.copy_from_slice(q);
-    let joint_models = kin.joint_models;
-    for i in 1..nb {
-        let b = &bodies[i];
-        let jm = &joint_models[i];
-        let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
-        kin.parent_from_body[i] = x;
-        let p = b.parent;
-        let world_from_body = if p == 0 {
-            x
+    // A pivot that is not finite is an overflow (huge masses, lengths or velocities), not a
+    // massless subtree.
+    if let Some(i) = (1..bodies.len())
+        .find(|&i| !(data.articulated[i].scale().is_finite() && data.force[i].is_finite()))
+    {
+        let dof = bodies[i].idx_v;
+        let what = if data.articulated[i].scale().is_finite() {
+            "the articulated bias force"
         } else {
-            kin.world_from_body[p] * x
+            "the articulated-body inertia"
         };
-        kin.world_from_body[i] = world_from_body;
-        let mut vj = Motion::ZERO;
-        for k in 0..b.nv {
-            let s = world_from_body.act_motion(&jm.subspace_column(k));
-            data.subspace[b.idx_v + k] = s;
-            vj += s * v[b.idx_v + k];
-        }
-        let (vi, ci) = if p == 0 {
-            (vj, Motion::ZERO)
-        } else {
-            let vp = data.world_velocity[p];
-            (vp + vj, vp.cross_motion(&vj))
-        };
-        data.world_velocity[i] = vi;
-        data.bias[i] = ci;
-        let inertia = b.inertia.transformed(&world_from_body);
-        data.articulated[i] = ArticulatedInertia::from_inertia(&inertia);
-        data.force[i] = vi.cross_force(&inertia.mul_motion(&vi));
+        return Err(crate::error::overflow(model, data, what, dof, f64::NAN));
     }
-    if let Some(fext) = fext {
-        let force = &mut data.force;
-        fext.for_each_world(data.kinematics.world_from_body(), |body, f| {
-            force[body] -= f
-        });
-    }
-    // Pass 2, leaves to root: articulated inertias and bias forces.
-    let mut singular: Vec<usize> = Vec::new();
-    for i in (1..nb).rev() {
-        let b = &bodies[i];
-        let (iv, ni) = (b.idx_v, b.nv);
-        let ia = data.articulated[i];
-        let pa = data.force[i];
-        let off = data.dinv_offset[i];
-        if ni == 1 {
-            let s = data.subspace[iv];
-            let u_col = ia.mul_motion(&s);
-            data.u_columns[iv] = u_col;
-            let mut d = s.dot(&u_col);
-            let mut u = tau[iv] - s.dot(&pa);
-            if data.has_joint_terms {
-                d += data.armature[iv];
-                u -= data.damping[iv] * v[iv] + data.friction[iv] * sign(v[iv]);
-            }
-            let dinv = if d > PIVOT_TOLERANCE * ia.scale() {
-                1.0 / d
-            } else {
-                singular.push(iv);
-                0.0
-            };
-            data.dinv[off] = dinv;
-            data.u[iv] = u;
-            if b.parent != 0 {
-                let mut ia = ia;
-                ia.sub_outer(&u_col, &(u_col * dinv));
-                let pa = pa + ia.mul_motion(&data.bias[i]) + u_col * (dinv * u);
-                data.articulated[b.parent].add_assign(&ia);
-                data.force[b.parent] += pa;
-            }
-        } else {
-            let mut d = [[0.0; 6]; 6];
-            for k in 0..ni {
-                let s = data.subspace[iv + k];
-                let u_col = ia.mul_motion(&s);
-                data.u_columns[iv + k] = u_col;
-                let mut u = tau[iv + k] - s.dot(&pa);
-                if data.has_joint_terms {
-                    d[k][k] += data.armature[iv + k];
-                    u -= data.damping[iv + k] * v[iv + k] + data.friction[iv + k] * sign(v[iv + k]);
-                }
-                data.u[iv + k] = u;
-            }
-            for k in 0..ni {
-                for l in 0..=k {
-                    let x = data.subspace[iv + l].dot(&data.u_columns[iv + k]);
-                    d[k][l] += x;
-                    if l != k {
-                        d[l][k] = d[k][l];
-                    }
-                }
-            }
-            let dinv = &mut data.dinv[off..off + ni * ni];
-            if !invert_spd(&d, ni, PIVOT_TOLERANCE * ia.scale(), dinv) {
-                singular.extend(iv..iv + ni);
-                dinv.fill(0.0);
-            }
-            if b.parent != 0 {
-                let mut ia = ia;
-                let mut pa = pa;
-                for k in 0..ni {
-                    // W_k = Σ_l D⁻¹[k][l]·U_l.
-                    let mut w = Force::ZERO;
-                    let mut du = 0.0;
-                    for l in 0..ni {
-                        w += data.u_columns[iv + l] * dinv[k * ni + l];
-                        du += dinv[k * ni + l] * data.u[iv + l];
-                    }
-                    ia.sub_outer(&data.u_columns[iv + k], &w);
-                    pa += data.u_columns[iv + k] * du;
-                }
-                let pa = pa + ia.mul_motion(&data.bias[i]);
-                data.articulated[b.parent].add_assign(&ia);
-                data.force[b.parent] += pa;
-            }
-        }
-    }
-    if !singular.is_empty() {
-        // A pivot that is not finite is an overflow (huge masses, lengths or velocities), not a
-        // massless subtree.
-        if let Some(i) = (1..nb)
-            .find(|&i| !(data.articulated[i].scale().is_finite() && data.force[i].is_finite()))
-        {
-            let dof = bodies[i].idx_v;
-            let what = if data.articulated[i].scale().is_finite() {
-                "the articulated bias force"
-            } else {
-                "the articulated-body inertia"
-            };
-            return Err(crate::error::overflow(model, data, what, dof, f64::NAN));
-        }
-        singular.sort_unstable();
-        return Err(singular_error(model, data, &singular));
-    }
-    // Pass 3, root to leaves: accelerations.
-    let a0 = Motion::new(-model.gravity(), DVec3::ZERO);
-    for i in 1..nb {
-        let b = &bodies[i];
-        let (iv, ni) = (b.idx_v, b.nv);
-        let p = b.parent;
-        let mut ai = if p == 0 { a0 } else { data.acceleration[p] } + data.bias[i];
-        let off = data.dinv_offset[i];
-        if ni == 1 {
-            let u_col = data.u_columns[iv];
-            let qdd = data.dinv[off] * (data.u[iv] - a_dot(&ai, &u_col));
-            data.ddq[iv] = qdd;
-            ai += data.subspace[iv] * qdd;
-        } else {
-            let mut r = [0.0; 6];
-            for k in 0..ni {
-                r[k] = data.u[iv + k] - a_dot(&ai, &data.u_columns[iv + k]);
-            }
-            let mut da = Motion::ZERO;
-            for k in 0..ni {
-                let mut qdd = 0.0;
-                for l in 0..ni {
-                    qdd += data.dinv[off + k * ni + l] * r[l];
-                }
-                data.ddq[iv + k] = qdd;
-                da += data.subspace[iv + k] * qdd;
-            }
-            ai += da;
-        }
-        data.acceleration[i] = ai;
-    }
-    Ok(())
+    let mut singular = singular;
+    singular.sort_unstable();
+    Err(singular_error(model, data, &singular))
 }
 
-#[inline]
-fn a_dot(a: &Motion, f: &Force) -> f64 {
-    a.dot(f)
+/// What the ABA sweeps read: the model's bodies and joint models, where each body's inverse
+/// pivot block starts, and the joint terms when they are included.
+pub(crate) struct AbaTree<'a> {
+    pub(crate) model: &'a Model,
+    pub(crate) joint_models: &'a [JointModel],
+    pub(crate) dinv_offset: &'a [usize],
+    pub(crate) terms: Option<JointTermsRef<'a>>,
+}
+
+impl<'a> AbaTree<'a> {
+    /// The sweeps' view of `model` and `data`.
+    pub(crate) fn of(model: &'a Model, data: &'a DynamicsData) -> Self {
+        Self {
+            model,
+            joint_models: data.kinematics.joint_models(),
+            dinv_offset: &data.dinv_offset,
+            terms: data.has_joint_terms.then_some(JointTermsRef {
+                armature: &data.armature,
+                damping: &data.damping,
+                friction: &data.friction,
+            }),
+        }
+    }
+}
+
+/// What becomes of the pivots the backward sweep refuses (at most the tolerance, or NaN): the
+/// one-state sweep names their joints, the lanes mark their states.
+pub(crate) trait Pivots<T: Real> {
+    /// The pivots of the degrees of freedom `dofs`, whose inverse block is `dinv`, were refused
+    /// where `refused` is not 0.
+    fn check(&mut self, dofs: Range<usize>, refused: T, dinv: &mut [T]);
+}
+
+/// The degrees of freedom of one state whose pivots were refused; their inverse blocks are set
+/// to 0, so that the sums up the tree stay finite for the overflow check.
+struct Singular(Vec<usize>);
+
+impl Pivots<f64> for Singular {
+    #[inline(always)]
+    fn check(&mut self, dofs: Range<usize>, refused: f64, dinv: &mut [f64]) {
+        if refused != 0.0 {
+            self.0.extend(dofs);
+            dinv.fill(0.0);
+        }
+    }
+}
+
+/// The per-body (and per degree of freedom) buffers the ABA sweeps write: of one state (slices
+/// of the data) or of a block of states in lanes (the batch's lane buffers).
+pub(crate) struct AbaSweep<'a, T, X: ?Sized, M: ?Sized, F: ?Sized, A: ?Sized> {
+    pub(crate) parent_from_body: &'a mut X,
+    pub(crate) world_from_body: &'a mut X,
+    /// The bodies' velocities, in the world frame.
+    pub(crate) velocity: &'a mut M,
+    /// The velocity-product accelerations `vₚ × vⱼ`.
+    pub(crate) bias: &'a mut M,
+    /// The bodies' accelerations (with gravity: the root accelerates by `-g`).
+    pub(crate) acceleration: &'a mut M,
+    /// The joints' subspace columns in the world frame, per degree of freedom.
+    pub(crate) subspace: &'a mut M,
+    /// The articulated bias forces.
+    pub(crate) force: &'a mut F,
+    /// `U = Iᵃ·S`, per degree of freedom.
+    pub(crate) u_columns: &'a mut F,
+    pub(crate) articulated: &'a mut A,
+    /// `u = τ - Sᵀ·pᵃ` (less the joint terms), per degree of freedom.
+    pub(crate) u: &'a mut [T],
+    /// The inverse pivot blocks `D⁻¹` (at `dinv_offset`).
+    pub(crate) dinv: &'a mut [T],
+    pub(crate) ddq: &'a mut [T],
+}
+
+impl<T, X, M, F, A> AbaSweep<'_, T, X, M, F, A>
+where
+    T: Real,
+    X: IndexMut<usize, Output = Se3<T>> + ?Sized,
+    M: IndexMut<usize, Output = Motion<T>> + ?Sized,
+    F: IndexMut<usize, Output = Force<T>> + ?Sized,
+    A: IndexMut<usize, Output = ArticulatedInertia<T>> + ?Sized,
+{
+    /// Pass 1, root to leaves: placements, velocities, bias accelerations, rigid inertias and
+    /// bias forces, all in the world frame.
+    #[inline(always)]
+    pub(crate) fn forward(&mut self, tree: &AbaTree<'_>, q: &[T], v: &[T]) {
+        for (i, b) in tree.model.bodies().iter().enumerate().skip(1) {
+            let jm = &tree.joint_models[i];
+            let x = jm.placed_transform(&b.placement, &q[b.idx_q..b.idx_q + b.nq]);
+            self.parent_from_body[i].assign(&x);
+            let p = b.parent;
+            let world = if p == 0 {
+                x
+            } else {
+                self.world_from_body[p].compose(&x)
+            };
+            self.world_from_body[i] = world;
+            let mut vj = Motion::zero();
+            for k in 0..b.nv {
+                let s = world_column(jm, &world, k);
+                self.subspace[b.idx_v + k] = s;
+                vj += s.scale(v[b.idx_v + k]);
+            }
+            let (vi, ci) = if p == 0 {
+                (vj, Motion::zero())
+            } else {
+                let vp = self.velocity[p];
+                (vp + vj, vp.cross_motion(&vj))
+            };
+            self.velocity[i] = vi;
+            self.bias[i] = ci;
+            let inertia = RigidInertia::transformed(&b.inertia, &world);
+            self.articulated[i] = ArticulatedInertia::from_rigid(&inertia);
+            self.force[i] = vi.cross_force(&inertia.mul_motion(&vi));
+        }
+    }
+
+    /// Pass 2, leaves to root: articulated inertias and bias forces, and each joint's inverse
+    /// pivot block (checked through `pivots`).
+    #[inline(always)]
+    pub(crate) fn backward(
+        &mut self,
+        tree: &AbaTree<'_>,
+        v: &[T],
+        tau: &[T],
+        pivots: &mut impl Pivots<T>,
+    ) {
+        let bodies = tree.model.bodies();
+        for i in (1..bodies.len()).rev() {
+            let b = &bodies[i];
+            let (iv, ni) = (b.idx_v, b.nv);
+            let ia = self.articulated[i];
+            let pa = self.force[i];
+            let off = tree.dinv_offset[i];
+            let tolerance = ia.scale() * PIVOT_TOLERANCE;
+            if ni == 1 {
+                let s = self.subspace[iv];
+                let u_col = ia.mul_motion(&s);
+                self.u_columns[iv] = u_col;
+                let mut d = s.dot(&u_col);
+                let mut u = tau[iv] - s.dot(&pa);
+                if let Some(t) = &tree.terms {
+                    d += T::splat(t.armature[iv]);
+                    u -= v[iv] * t.damping[iv] + v[iv].sign() * t.friction[iv];
+                }
+                let (dinv, refused) = d.pivot(tolerance);
+                self.dinv[off] = dinv;
+                pivots.check(iv..iv + 1, refused, &mut self.dinv[off..=off]);
+                let dinv = self.dinv[off];
+                self.u[iv] = u;
+                if b.parent != 0 {
+                    let mut ia = ia;
+                    ia.sub_outer(&u_col, &u_col.scale(dinv));
+                    let pa = pa + ia.mul_motion(&self.bias[i]) + u_col.scale(dinv * u);
+                    self.articulated[b.parent].add_assign(&ia);
+                    self.force[b.parent] += pa;
+                }
+            } else {
+                let mut d = [[T::ZERO; 6]; 6];
+                for k in 0..ni {
+                    let s = self.subspace[iv + k];
+                    let u_col = ia.mul_motion(&s);
+                    self.u_columns[iv + k] = u_col;
+                    let mut u = tau[iv + k] - s.dot(&pa);
+                    if let Some(t) = &tree.terms {
+                        let vk = v[iv + k];
+                        d[k][k] += T::splat(t.armature[iv + k]);
+                        u -= vk * t.damping[iv + k] + vk.sign() * t.friction[iv + k];
+                    }
+                    self.u[iv + k] = u;
+                }
+                for k in 0..ni {
+                    for l in 0..=k {
+                        let x = self.subspace[iv + l].dot(&self.u_columns[iv + k]);
+                        d[k][l] += x;
+                        if l != k {
+                            d[l][k] = d[k][l];
+                        }
+                    }
+                }
+                let dinv = &mut self.dinv[off..off + ni * ni];
+                let refused = invert_spd(&d, ni, tolerance, dinv);
+                pivots.check(iv..iv + ni, refused, dinv);
+                if b.parent != 0 {
+                    let mut ia = ia;
+                    let mut pa = pa;
+                    for k in 0..ni {
+                        // W_k = Σ_l D⁻¹[k][l]·U_l.
+                        let mut w = Force::zero();
+                        let mut du = T::ZERO;
+                        for l in 0..ni {
+                            w += self.u_columns[iv + l].scale(dinv[k * ni + l]);
+                            du += dinv[k * ni + l] * self.u[iv + l];
+                        }
+                        ia.sub_outer(&self.u_columns[iv + k], &w);
+                        pa += self.u_columns[iv + k].scale(du);
+                    }
+                    let pa = pa + ia.mul_motion(&self.bias[i]);
+                    self.articulated[b.parent].add_assign(&ia);
+                    self.force[b.parent] += pa;
+                }
+            }
+        }
+    }
+
+    /// Pass 3, root to leaves: the accelerations, with `ddq`.
+    #[inline(always)]
+    pub(crate) fn accelerations(&mut self, tree: &AbaTree<'_>) {
+        let a0 = Motion::from_const(&Motion::new(-tree.model.gravity(), DVec3::ZERO));
+        for (i, b) in tree.model.bodies().iter().enumerate().skip(1) {
+            let (iv, ni) = (b.idx_v, b.nv);
+            let p = b.parent;
+            let mut ai = if p == 0 { a0 } else { self.acceleration[p] } + self.bias[i];
+            let off = tree.dinv_offset[i];
+            if ni == 1 {
+                let u_col = self.u_columns[iv];
+                let qdd = self.dinv[off] * (self.u[iv] - ai.dot(&u_col));
+                self.ddq[iv] = qdd;
+                ai += self.subspace[iv].scale(qdd);
+            } else {
+                let mut r = [T::ZERO; 6];
+                for k in 0..ni {
+                    r[k] = self.u[iv + k] - ai.dot(&self.u_columns[iv + k]);
+                }
+                let mut da = Motion::zero();
+                for k in 0..ni {
+                    let mut qdd = T::ZERO;
+                    for l in 0..ni {
+                        qdd += self.dinv[off + k * ni + l] * r[l];
+                    }
+                    self.ddq[iv + k] = qdd;
+                    da += self.subspace[iv + k].scale(qdd);
+                }
+                ai += da;
+            }
+            self.acceleration[i] = ai;
+        }
+    }
+}
+
+/// Subspace column `k` of a joint moved to the world frame by `x = world_from_body`: for the
+/// joints about or along a coordinate axis, a column of `x`'s rotation (no matrix product).
+#[inline(always)]
+fn world_column<T: Real>(jm: &JointModel, x: &Se3<T>, k: usize) -> Motion<T> {
+    match jm.axis_index() {
+        Some((a, true)) => {
+            let axis = x.rotation.col(a);
+            Motion {
+                linear: x.translation.cross(&axis),
+                angular: axis,
+            }
+        }
+        Some((a, false)) => Motion {
+            linear: x.rotation.col(a),
+            angular: T::V3::ZERO,
+        },
+        None => x.act_motion(&Motion::from_const(&jm.subspace_column(k))),
+    }
 }
 
 /// Inverts a small symmetric positive definite matrix (`n ≤ 6`, stored in `d[..n][..n]`) into
-/// `out` (row-major `n x n`) by Cholesky; `false` when a pivot is `≤ tolerance`.
-fn invert_spd(d: &[[f64; 6]; 6], n: usize, tolerance: f64, out: &mut [f64]) -> bool {
+/// `out` (row-major `n x n`) by Cholesky. Returns what [`Real::pivot`] says of the pivots: not
+/// 0 where one is `≤ tolerance` (or NaN), and `out` is then meaningless.
+#[inline(always)]
+fn invert_spd<T: Real>(d: &[[T; 6]; 6], n: usize, tolerance: T, out: &mut [T]) -> T {
+    let mut refused = T::ZERO;
     // Cholesky: d = L·Lᵀ.
-    let mut l = [[0.0; 6]; 6];
+    let mut l = [[T::ZERO; 6]; 6];
     for j in 0..n {
         let mut s = d[j][j];
         for k in 0..j {
             s -= l[j][k] * l[j][k];
         }
-        if s.is_nan() || s <= tolerance {
-            return false;
-        }
+        refused += s.pivot(tolerance).1;
         let ljj = s.sqrt();
         l[j][j] = ljj;
         for i in j + 1..n {
@@ -301,9 +448,9 @@ fn invert_spd(d: &[[f64; 6]; 6], n: usize, tolerance: f64, out: &mut [f64]) -> b
     }
     // Columns of the inverse: solve L·Lᵀ·x = e_c.
     for c in 0..n {
-        let mut y = [0.0; 6];
+        let mut y = [T::ZERO; 6];
         for i in 0..n {
-            let mut s = if i == c { 1.0 } else { 0.0 };
+            let mut s = if i == c { T::splat(1.0) } else { T::ZERO };
             for k in 0..i {
                 s -= l[i][k] * y[k];
             }
@@ -320,88 +467,7 @@ fn invert_spd(d: &[[f64; 6]; 6], n: usize, tolerance: f64, out: &mut [f64]) -> b
             out[i * n + c] = y[i];
         }
     }
-    true
-}
-
-/// A symmetric 6x6 spatial inertia (rigid or articulated) in 3x3 blocks, acting on
-/// `[linear; angular]` motions: `f = A·v + B·ω`, `n = Bᵀ·v + C·ω`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct ArticulatedInertia {
-    a: Symmetric3,
-    b: DMat3,
-    c: Symmetric3,
-}
-
-impl ArticulatedInertia {
-    pub(crate) const ZERO: Self = Self {
-        a: Symmetric3::ZERO,
-        b: DMat3::ZERO,
-        c: Symmetric3::ZERO,
-    };
-
-    /// The 6x6 form of a rigid-body inertia.
-    #[inline]
-    pub(crate) fn from_inertia(i: &Inertia) -> Self {
-        let m = i.mass;
-        let mc = i.com * m;
-        Self {
-            a: Symmetric3::new(m, 0.0, 0.0, m, 0.0, m),
-            // -m·[c]×
-            b: DMat3::from_cols(
-                DVec3::new(0.0, -mc.z, mc.y),
-                DVec3::new(mc.z, 0.0, -mc.x),
-                DVec3::new(-mc.y, mc.x, 0.0),
-            ),
-            c: i.rotational_about(DVec3::ZERO),
-        }
-    }
-
-    /// The product with a motion vector.
-    #[inline]
-    pub(crate) fn mul_motion(&self, m: &Motion) -> Force {
-        let (v, w) = (m.linear, m.angular);
-        Force::new(
-            self.a.mul_vec3(v) + self.b * w,
-            self.b.transpose() * v + self.c.mul_vec3(w),
-        )
-    }
-
-    /// `self -= x·yᵀ` for forces `x`, `y` whose outer product is symmetric in sum (only the
-    /// lower blocks' symmetric parts are kept).
-    #[inline]
-    pub(crate) fn sub_outer(&mut self, x: &Force, y: &Force) {
-        let (xl, xa, yl, ya) = (x.linear, x.angular, y.linear, y.angular);
-        self.a.xx -= xl.x * yl.x;
-        self.a.xy -= xl.x * yl.y;
-        self.a.xz -= xl.x * yl.z;
-        self.a.yy -= xl.y * yl.y;
-        self.a.yz -= xl.y * yl.z;
-        self.a.zz -= xl.z * yl.z;
-        // B (linear rows, angular columns) gets x_lin·y_angᵀ.
-        self.b.x_axis -= xl * ya.x;
-        self.b.y_axis -= xl * ya.y;
-        self.b.z_axis -= xl * ya.z;
-        self.c.xx -= xa.x * ya.x;
-        self.c.xy -= xa.x * ya.y;
-        self.c.xz -= xa.x * ya.z;
-        self.c.yy -= xa.y * ya.y;
-        self.c.yz -= xa.y * ya.z;
-        self.c.zz -= xa.z * ya.z;
-    }
-
-    /// `self += o`.
-    #[inline]
-    pub(crate) fn add_assign(&mut self, o: &Self) {
-        self.a += o.a;
-        self.b += o.b;
-        self.c += o.c;
-    }
-
-    /// A magnitude for pivot tolerances: the traces of the diagonal blocks.
-    #[inline]
-    pub(crate) fn scale(&self) -> f64 {
-        self.a.trace().abs() + self.c.trace().abs()
-    }
+    refused
 }
 
 /// Placements farther than this from the origin (metres) are beyond any robot: a singular

@@ -1,6 +1,6 @@
 //! [`DynamicsData`]: every buffer the dynamics algorithms write, allocated once per model.
 
-use crate::aba::ArticulatedInertia;
+use crate::articulated::ArticulatedInertia;
 use crate::error::DynamicsError;
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::KinematicsData;
@@ -272,7 +272,7 @@ impl DynamicsData {
                 .collect(),
             turn: Vec::new(),
             joint_rot: vec![JointRot::NONE; nb],
-            articulated: vec![ArticulatedInertia::ZERO; nb],
+            articulated: vec![ArticulatedInertia::default(); nb],
             bias: vec![Motion::ZERO; nb],
             subspace: vec![Motion::ZERO; nv],
             u_columns: vec![Force::ZERO; nv],

@@ -77,6 +77,7 @@
 
 mod aba;
 mod all_terms;
+mod articulated;
 pub mod batch;
 mod com;
 mod crba;

@@ -70,6 +70,16 @@ pub trait Real:
     /// `1`, `-1` or `0` for a positive, negative or zero (or NaN) value.
     #[must_use]
     fn sign(self) -> Self;
+
+    /// The absolute value.
+    #[must_use]
+    fn abs(self) -> Self;
+
+    /// A pivot of a factorization and its check, lane by lane: `(1 / self, 0)` where `self`
+    /// exceeds `tolerance`, else `(0, 1)` (a pivot at most `tolerance`, or NaN, is refused).
+    /// The one comparison the algorithms make; what a refusal means is decided at their edges.
+    #[must_use]
+    fn pivot(self, tolerance: Self) -> (Self, Self);
 }
 
 /// The 3-vector operations the generic algorithms use (glam's `DVec3` arithmetic).
@@ -212,6 +222,20 @@ impl Real for f64 {
             0.0
         }
     }
+
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+
+    #[inline(always)]
+    fn pivot(self, tolerance: Self) -> (Self, Self) {
+        if self > tolerance {
+            (1.0 / self, 0.0)
+        } else {
+            (0.0, 1.0)
+        }
+    }
 }
 
 impl Vector3<f64> for DVec3 {
@@ -345,6 +369,24 @@ impl<const L: usize> Real for Lanes<L> {
     #[inline(always)]
     fn sign(self) -> Self {
         self.map(<f64 as Real>::sign)
+    }
+
+    #[inline(always)]
+    fn abs(self) -> Self {
+        self.map(f64::abs)
+    }
+
+    #[inline(always)]
+    fn pivot(self, tolerance: Self) -> (Self, Self) {
+        let (mut inverse, mut refused) = ([0.0; L], [0.0; L]);
+        for l in 0..L {
+            if self.0[l] > tolerance.0[l] {
+                inverse[l] = 1.0 / self.0[l];
+            } else {
+                refused[l] = 1.0;
+            }
+        }
+        (Lanes(inverse), Lanes(refused))
     }
 }
 

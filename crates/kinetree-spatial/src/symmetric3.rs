@@ -264,22 +264,7 @@ impl Symmetric3 {
     #[inline]
     #[must_use]
     pub fn skew_square(v: DVec3) -> Self {
-        let (x, y, z) = (v.x, v.y, v.z);
-        Self::new(
-            y * y + z * z,
-            -x * y,
-            -x * z,
-            x * x + z * z,
-            -y * z,
-            x * x + y * y,
-        )
-    }
-
-    /// The trace.
-    #[inline]
-    #[must_use]
-    pub fn trace(&self) -> f64 {
-        self.xx + self.yy + self.zz
+        skew_square::<f64>(&v)
     }
 
     /// Whether every entry is finite.
@@ -400,6 +385,23 @@ impl<T: Real> Symmetric3<T> {
         )
     }
 
+    /// The trace.
+    #[inline(always)]
+    #[must_use]
+    pub fn trace(&self) -> T {
+        self.xx + self.yy + self.zz
+    }
+
+    /// `self + m·[c]×ᵀ[c]×`: a rotational inertia moved from the centre of mass `c` to the
+    /// origin (the parallel-axis theorem, as [`Inertia::rotational_about`] the origin).
+    ///
+    /// [`Inertia::rotational_about`]: crate::Inertia::rotational_about
+    #[inline(always)]
+    #[must_use]
+    pub fn add_parallel_axis(&self, c: &T::V3, m: f64) -> Self {
+        *self + skew_square::<T>(c) * m
+    }
+
     /// `R · self · Rᵀ`: the same tensor expressed in a frame rotated by `r`.
     #[inline(always)]
     #[must_use]
@@ -418,6 +420,20 @@ impl<T: Real> Symmetric3<T> {
             yz: rotated_entry::<T>(&m, r, 1, 2),
             zz: rotated_entry::<T>(&m, r, 2, 2),
         }
+    }
+}
+
+/// `[v]×ᵀ [v]×` in any number type ([`Symmetric3::skew_square`]).
+#[inline(always)]
+fn skew_square<T: Real>(v: &T::V3) -> Symmetric3<T> {
+    let (x, y, z) = (v.get(0), v.get(1), v.get(2));
+    Symmetric3 {
+        xx: y * y + z * z,
+        xy: -x * y,
+        xz: -x * z,
+        yy: x * x + z * z,
+        yz: -y * z,
+        zz: x * x + y * y,
     }
 }
 

@@ -34,7 +34,6 @@
 
 mod aba;
 mod aba_derivatives;
-mod articulated;
 mod crba;
 mod derivatives;
 mod lane_solve;
