@@ -24,6 +24,7 @@
 //! assert_eq!(lanes.lane(3), glam::DVec3::Y);
 //! ```
 
+use crate::Se3;
 use crate::lanes::{LMat3, LVec3, Lanes};
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
@@ -80,6 +81,13 @@ pub trait Real:
     /// The one comparison the algorithms make; what a refusal means is decided at their edges.
     #[must_use]
     fn pivot(self, tolerance: Self) -> (Self, Self);
+
+    /// The transform `f` gives for each lane's numbers `x` (at most 8 of them): a
+    /// computation left to one-state code, lane by lane. The rare joint kinds take this path,
+    /// so that the lane kernels stay compact (their one-state code is a call, not an inlined
+    /// lane copy); for `f64` it is `f(x)`.
+    #[must_use]
+    fn each_lane(x: &[Self], f: impl Fn(&[f64]) -> Se3) -> Se3<Self>;
 }
 
 /// The 3-vector operations the generic algorithms use (glam's `DVec3` arithmetic).
@@ -236,6 +244,11 @@ impl Real for f64 {
             (0.0, 1.0)
         }
     }
+
+    #[inline(always)]
+    fn each_lane(x: &[Self], f: impl Fn(&[f64]) -> Se3) -> Se3 {
+        f(x)
+    }
 }
 
 impl Vector3<f64> for DVec3 {
@@ -387,6 +400,20 @@ impl<const L: usize> Real for Lanes<L> {
             }
         }
         (Lanes(inverse), Lanes(refused))
+    }
+
+    #[inline(always)]
+    fn each_lane(x: &[Self], f: impl Fn(&[f64]) -> Se3) -> Se3<Self> {
+        let n = x.len().min(8);
+        let mut out = Se3::<Self>::identity();
+        for l in 0..L {
+            let mut one = [0.0; 8];
+            for (o, xk) in one.iter_mut().zip(&x[..n]) {
+                *o = xk.0[l];
+            }
+            out.set_lane(l, &f(&one[..n]));
+        }
+        out
     }
 }
 

@@ -41,10 +41,7 @@ pub use simd::Simd;
 #[doc(hidden)]
 pub use simd::{Half, Page, align_frame};
 #[doc(hidden)]
-pub use simd::{
-    block_states, body_transform, body_transform_in_lanes, gather, revolute_axis_transform,
-    suspect_lanes,
-};
+pub use simd::{block_states, body_transform, gather, suspect_lanes};
 #[doc(hidden)]
 pub use transpose::Io;
 

@@ -2,10 +2,9 @@
 //! block of states in lanes.
 
 use crate::joint::JointModel;
-use crate::joint::transform::rotate_about_axis;
+use crate::joint::transform::mimic_value;
 use kinetree_model::spatial::Real;
-use kinetree_model::spatial::lanes::{LMat3, LSe3, LVec3, Lanes};
-use kinetree_model::spatial::real::{Matrix3 as _, Vector3 as _};
+use kinetree_model::spatial::lanes::{LSe3, Lanes};
 use kinetree_model::{Body, Model};
 
 /// The SIMD instruction set a batch workspace runs its sweeps with.
@@ -299,20 +298,9 @@ impl<const L: usize> Coordinates<L> for InLanes<'_, L> {
     }
 }
 
-/// The joint value of a one-coordinate body (a coupled mimic body: `multiplier·q + offset`, as
-/// [`JointModel::body_transform`]).
-#[inline(always)]
-fn joint_value<const L: usize>(b: &Body, c: &impl Coordinates<L>) -> Lanes<L> {
-    let x = c.at(b.idx_q);
-    match &b.mimic {
-        None => x,
-        Some(m) => x * m.multiplier + Lanes::splat(m.offset),
-    }
-}
-
-/// `parent_from_body` of `b` in each lane, as [`JointModel::body_transform`] computes it: the
-/// axis-aligned and fixed joints in lanes, every other kind lane by lane with the one-state
-/// kernel.
+/// `parent_from_body` of `b` in each lane: [`JointModel::body_transform`], the one joint
+/// algebra, on lanes (the rare joint kinds go lane by lane through the one-state code, see
+/// `Real::each_lane`).
 #[inline(always)]
 pub fn body_transform<const L: usize>(
     jm: &JointModel,
@@ -322,23 +310,6 @@ pub fn body_transform<const L: usize>(
     idx: &[usize; L],
 ) -> LSe3<L> {
     body_transform_of(jm, b, &Gathered { q, nq, idx: *idx })
-}
-
-/// [`body_transform`] with the block's coordinates already in lanes (`lanes[j]` is coordinate
-/// `j` of every lane, as [`Io::load_coordinates`](super::Io::load_coordinates) leaves them); the
-/// joints computed lane by lane read the stacked states `q` (`nq` numbers each) of the block's
-/// states `idx`.
-#[inline(always)]
-pub fn body_transform_in_lanes<const L: usize>(
-    jm: &JointModel,
-    b: &Body,
-    lanes: &[Lanes<L>],
-    q: &[f64],
-    nq: usize,
-    idx: &[usize; L],
-) -> LSe3<L> {
-    let states = Gathered { q, nq, idx: *idx };
-    body_transform_of(jm, b, &InLanes { lanes, states })
 }
 
 /// The probe `finite` (NaN in a lane where a coordinate is not finite, 0 elsewhere) with NaN
@@ -371,93 +342,15 @@ pub(crate) fn body_transform_of<const L: usize>(
     b: &Body,
     c: &impl Coordinates<L>,
 ) -> LSe3<L> {
-    let p = &b.placement;
-    let r = &p.rotation;
-    let t = LVec3::splat(p.translation);
-    let rotate = |k: usize| revolute_axis_transform_of(k, b, c).0;
-    let slide = |axis: LVec3<L>| LSe3 {
-        rotation: LMat3::splat(r),
-        translation: t + axis,
-    };
-    match *jm {
-        JointModel::RevoluteX => rotate(0),
-        JointModel::RevoluteY => rotate(1),
-        JointModel::RevoluteZ => rotate(2),
-        JointModel::PrismaticX => slide(LVec3::splat(r.x_axis).scale(joint_value(b, c))),
-        JointModel::PrismaticY => slide(LVec3::splat(r.y_axis).scale(joint_value(b, c))),
-        JointModel::PrismaticZ => slide(LVec3::splat(r.z_axis).scale(joint_value(b, c))),
-        JointModel::Prismatic(a) => {
-            let d = joint_value(b, c);
-            let v = LVec3 {
-                x: d * a.x,
-                y: d * a.y,
-                z: d * a.z,
-            };
-            slide(LMat3::splat(r).mul_vec(&v))
-        }
-        JointModel::Fixed => LSe3::splat(p),
-        JointModel::Floating => floating_transform(b, c),
-        _ => {
-            let mut x = LSe3::default();
-            for l in 0..L {
-                x.set_lane(l, &jm.body_transform(b, c.state(l)));
-            }
-            x
-        }
+    // The body's block of coordinates (a coupled mimic body's one value from its leader's), as
+    // `JointModel::body_transform` reads it.
+    let mut block = [Lanes::ZERO; 7];
+    let n = if b.mimic.is_some() { 1 } else { b.nq.min(7) };
+    for (k, x) in block[..n].iter_mut().enumerate() {
+        *x = c.at(b.idx_q + k);
     }
-}
-
-/// `parent_from_body` of a free-floating body in each lane, as [`JointModel::body_transform`]
-/// computes it: the quaternion divided by its length (`quat` of `joint/model.rs`), turned into a
-/// matrix as `DMat3::from_quat` does, and the placement applied unless it is the identity.
-#[inline(always)]
-fn floating_transform<const L: usize>(b: &Body, c: &impl Coordinates<L>) -> LSe3<L> {
-    let at = |k: usize| c.at(b.idx_q + k);
-    let translation = LVec3 {
-        x: at(0),
-        y: at(1),
-        z: at(2),
-    };
-    let (x, y, z, w) = (at(3), at(4), at(5), at(6));
-    let length = (x * x + y * y + z * z + w * w).map(f64::sqrt);
-    let unit = |a: Lanes<L>| {
-        let mut out = a.0;
-        for l in 0..L {
-            out[l] /= length.0[l];
-        }
-        Lanes(out)
-    };
-    let (x, y, z, w) = (unit(x), unit(y), unit(z), unit(w));
-    let (x2, y2, z2) = (x + x, y + y, z + z);
-    let (xx, xy, xz) = (x * x2, x * y2, x * z2);
-    let (yy, yz, zz) = (y * y2, y * z2, z * z2);
-    let (wx, wy, wz) = (w * x2, w * y2, w * z2);
-    let one = Lanes::splat(1.0);
-    let local = LSe3 {
-        rotation: LMat3 {
-            x_axis: LVec3 {
-                x: one - (yy + zz),
-                y: xy + wz,
-                z: xz - wy,
-            },
-            y_axis: LVec3 {
-                x: xy - wz,
-                y: one - (xx + zz),
-                z: yz + wx,
-            },
-            z_axis: LVec3 {
-                x: xz + wy,
-                y: yz - wx,
-                z: one - (xx + yy),
-            },
-        },
-        translation,
-    };
-    if b.placement == kinetree_model::spatial::Se3::IDENTITY {
-        local
-    } else {
-        LSe3::splat(&b.placement).compose(&local)
-    }
+    block[0] = mimic_value(b, block[0]);
+    jm.placed_transform(&b.placement, &block[..n])
 }
 
 /// The sine and cosine of the joint value of a one-coordinate body in each lane (as the
@@ -467,36 +360,5 @@ pub(crate) fn joint_sin_cos<const L: usize>(
     b: &Body,
     c: &impl Coordinates<L>,
 ) -> (Lanes<L>, Lanes<L>) {
-    joint_value(b, c).sin_cos()
-}
-
-/// `parent_from_body` of `b`, whose joint turns about coordinate axis `k` (0, 1, 2 for x, y,
-/// z), in each lane, with the sine and cosine of each lane's angle: as
-/// [`JointModel::placed_transform_factored`] computes them.
-#[inline(always)]
-pub fn revolute_axis_transform<const L: usize>(
-    k: usize,
-    b: &Body,
-    q: &[f64],
-    nq: usize,
-    idx: &[usize; L],
-) -> (LSe3<L>, Lanes<L>, Lanes<L>) {
-    revolute_axis_transform_of(k, b, &Gathered { q, nq, idx: *idx })
-}
-
-/// [`revolute_axis_transform`] with the coordinates read from `c`.
-#[inline(always)]
-pub(crate) fn revolute_axis_transform_of<const L: usize>(
-    k: usize,
-    b: &Body,
-    c: &impl Coordinates<L>,
-) -> (LSe3<L>, Lanes<L>, Lanes<L>) {
-    let p = &b.placement;
-    let (s, c) = joint_value(b, c).sin_cos();
-    let rotation = rotate_about_axis(&LMat3::splat(&p.rotation), k, s, c);
-    let x = LSe3 {
-        rotation,
-        translation: LVec3::splat(p.translation),
-    };
-    (x, s, c)
+    mimic_value(b, c.at(b.idx_q)).sin_cos()
 }

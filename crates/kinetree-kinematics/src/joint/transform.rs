@@ -92,8 +92,9 @@ impl JointModel {
     #[inline(always)]
     #[must_use]
     pub fn placed_transform<T: Real>(&self, placement: &Se3, q: &[T]) -> Se3<T> {
-        // No closures here or below: a closure is a function of its own that the compiler may
-        // leave out of line, and out of line it is built without the caller's SIMD features.
+        // No closures here or below but the rare kinds' one-state code: a closure is a
+        // function of its own that the compiler may leave out of line, and out of line it is
+        // built without the caller's SIMD features (which one-state code does not need).
         let r = &placement.rotation;
         match *self {
             Self::RevoluteX => turned(placement, 0, q[0]),
@@ -104,9 +105,11 @@ impl JointModel {
             Self::PrismaticZ => slid(placement, along(r.z_axis, q[0])),
             Self::Prismatic(a) => slid(placement, T::M3::from_const(r).mul_vec(&along(a, q[0]))),
             Self::Fixed => Se3::from_const(placement),
-            // Floating roots and many ball joints sit at the identity: skip the product.
-            _ if *placement == Se3::IDENTITY => self.transform(q),
-            _ => Se3::from_const(placement).compose(&self.transform(q)),
+            Self::Floating => placed(placement, &self.transform(q)),
+            // The rare kinds lane by lane with the one-state code (see `Real::each_lane`).
+            Self::Revolute(_) | Self::Cylindrical(_) | Self::Spherical | Self::Planar { .. } => {
+                T::each_lane(q, |q| placed(placement, &self.transform::<f64>(q)))
+            }
         }
     }
 
@@ -224,6 +227,17 @@ fn turned<T: Real>(placement: &Se3, k: usize, angle: T) -> Se3<T> {
     Se3 {
         rotation: rotate_about_axis(&T::M3::from_const(&placement.rotation), k, s, c),
         translation: T::V3::from_const(placement.translation),
+    }
+}
+
+/// `placement · x`.
+#[inline(always)]
+fn placed<T: Real>(placement: &Se3, x: &Se3<T>) -> Se3<T> {
+    // Floating roots and many ball joints sit at the identity: skip the product.
+    if *placement == Se3::IDENTITY {
+        *x
+    } else {
+        Se3::from_const(placement).compose(x)
     }
 }
 
