@@ -9,7 +9,7 @@ use core::ops::{IndexMut, Range};
 use kinetree_kinematics::JointModel;
 use kinetree_kinematics::model::Model;
 use kinetree_kinematics::spatial::glam::DVec3;
-use kinetree_kinematics::spatial::real::{Matrix3 as _, Real, Vector3 as _};
+use kinetree_kinematics::spatial::real::Real;
 use kinetree_kinematics::spatial::{Force, Motion, Se3};
 
 /// Relative size of an articulated pivot below which the joint counts as moving no mass.
@@ -261,7 +261,7 @@ where
             self.world_from_body[i] = world;
             let mut vj = Motion::zero();
             for k in 0..b.nv {
-                let s = world_column(jm, &world, k);
+                let s = jm.act_column(&world, k);
                 self.subspace[b.idx_v + k] = s;
                 vj += s.scale(v[b.idx_v + k]);
             }
@@ -399,26 +399,6 @@ where
             }
             self.acceleration[i] = ai;
         }
-    }
-}
-
-/// Subspace column `k` of a joint moved to the world frame by `x = world_from_body`: for the
-/// joints about or along a coordinate axis, a column of `x`'s rotation (no matrix product).
-#[inline(always)]
-fn world_column<T: Real>(jm: &JointModel, x: &Se3<T>, k: usize) -> Motion<T> {
-    match jm.axis_index() {
-        Some((a, true)) => {
-            let axis = x.rotation.col(a);
-            Motion {
-                linear: x.translation.cross(&axis),
-                angular: axis,
-            }
-        }
-        Some((a, false)) => Motion {
-            linear: x.rotation.col(a),
-            angular: T::V3::ZERO,
-        },
-        None => x.act_motion(&Motion::from_const(&jm.subspace_column(k))),
     }
 }
 

@@ -56,6 +56,9 @@ pub trait Real:
     /// Zero.
     const ZERO: Self;
 
+    /// How many states a value holds: 1 for `f64`, `L` for `Lanes<L>`.
+    const LANES: usize;
+
     /// The constant `x` (in every lane).
     #[must_use]
     fn splat(x: f64) -> Self;
@@ -83,9 +86,9 @@ pub trait Real:
     fn pivot(self, tolerance: Self) -> (Self, Self);
 
     /// The transform `f` gives for each lane's numbers `x` (at most 8 of them): a
-    /// computation left to one-state code, lane by lane. The rare joint kinds take this path,
-    /// so that the lane kernels stay compact (their one-state code is a call, not an inlined
-    /// lane copy); for `f64` it is `f(x)`.
+    /// computation left to one-state code, lane by lane, out of line. The rare joint kinds take
+    /// this path, so that the kernels stay compact (their one-state code is a call, not an
+    /// inlined copy); for `f64` it is `f(x)`, called out of line.
     #[must_use]
     fn each_lane(x: &[Self], f: impl Fn(&[f64]) -> Se3) -> Se3<Self>;
 }
@@ -205,6 +208,8 @@ impl Real for f64 {
 
     const ZERO: Self = 0.0;
 
+    const LANES: usize = 1;
+
     #[inline(always)]
     fn splat(x: f64) -> Self {
         x
@@ -247,8 +252,15 @@ impl Real for f64 {
 
     #[inline(always)]
     fn each_lane(x: &[Self], f: impl Fn(&[f64]) -> Se3) -> Se3 {
-        f(x)
+        out_of_line(&f, x)
     }
+}
+
+/// `f(x)`, as a call: the one-state code of [`Real::each_lane`] stays out of the kernels (one
+/// copy per closure type, that is per generic function that hands one over).
+#[inline(never)]
+fn out_of_line<F: Fn(&[f64]) -> Se3>(f: &F, x: &[f64]) -> Se3 {
+    f(x)
 }
 
 impl Vector3<f64> for DVec3 {
@@ -363,6 +375,8 @@ impl<const L: usize> Real for Lanes<L> {
     type M3 = LMat3<L>;
 
     const ZERO: Self = Lanes::ZERO;
+
+    const LANES: usize = L;
 
     #[inline(always)]
     fn splat(x: f64) -> Self {

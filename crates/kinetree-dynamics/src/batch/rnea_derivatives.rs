@@ -378,23 +378,7 @@ pub(crate) fn velocity_body<const L: usize>(
     let mut vj = LMotion::zero();
     for k in 0..b.nv {
         let d = b.idx_v + k;
-        let s = match jm.axis_index() {
-            // `omi.act_motion` of a unit motion: a column of the rotation, and the
-            // translation's cross product with it (the products by the unit motion's zeros
-            // left out).
-            Some((axis, true)) => {
-                let w = omi.rotation.col(axis);
-                LMotion {
-                    linear: omi.translation.cross(&w),
-                    angular: w,
-                }
-            }
-            Some((axis, false)) => LMotion {
-                linear: omi.rotation.col(axis),
-                angular: LVec3::ZERO,
-            },
-            None => omi.act_motion(&LMotion::splat(&jm.subspace_column(k))),
-        };
+        let s = jm.act_column(&omi, k);
         bufs.s[d] = s;
         vj += s.scale(gather(v, nv, d, idx));
         bufs.dv_dq[d] = vp.cross_motion(&s);

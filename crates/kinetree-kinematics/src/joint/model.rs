@@ -8,7 +8,7 @@
 use super::transform::along;
 use glam::{DQuat, DVec3};
 use kinetree_model::spatial::axis::unit_cross;
-use kinetree_model::spatial::real::{Real, Vector3};
+use kinetree_model::spatial::real::{Matrix3, Real, Vector3};
 use kinetree_model::spatial::{Force, Motion, OriginInertia, Se3};
 use kinetree_model::{Body, JointKind, plane_basis};
 
@@ -177,6 +177,28 @@ impl JointModel {
         } else {
             Motion::new(axis, DVec3::ZERO)
         })
+    }
+
+    /// `x · S_k`: subspace column `k` moved by `x` (a joint Jacobian column when `x` is
+    /// `world_from_body`), for one state or a block of states in lanes. For the joints about or
+    /// along a coordinate axis it is a column of `x`'s rotation (no matrix product).
+    #[inline(always)]
+    #[must_use]
+    pub fn act_column<T: Real>(&self, x: &Se3<T>, k: usize) -> Motion<T> {
+        match self.axis_index() {
+            Some((a, true)) => {
+                let axis = x.rotation.col(a);
+                Motion {
+                    linear: x.translation.cross(&axis),
+                    angular: axis,
+                }
+            }
+            Some((a, false)) => Motion {
+                linear: x.rotation.col(a),
+                angular: T::V3::ZERO,
+            },
+            None => x.act_motion(&Motion::from_const(&self.subspace_column(k))),
+        }
     }
 
     /// Number of velocity coordinates.
