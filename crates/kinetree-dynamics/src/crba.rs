@@ -91,15 +91,8 @@ fn check_mass_matrix(model: &Model, data: &DynamicsData) -> Result<(), DynamicsE
 /// entry written once (each lower-triangle entry and the diagonal, armature included), finite
 /// exactly when those entries are, unless finite entries overflow the sum.
 pub(crate) fn compute(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 {
-    kinetree_kinematics::with_simd!(
-        compute_kernel[],
-        (model: &Model = model, data: &mut DynamicsData = data, q: &[f64] = q) -> f64
-    )
-}
-
-/// [`compute`], to be compiled for the instruction set it runs with.
-#[inline(always)]
-fn compute_kernel(model: &Model, data: &mut DynamicsData, q: &[f64]) -> f64 {
+    // Not through `with_simd!` as the RNEA sweep: compiled for AVX-512 this sweep was 5–10 %
+    // slower (`kinetree bench`, panda, ur5, kinova, talos_reduced).
     let kin = data.kinematics.body_buffers_mut();
     kin.q.copy_from_slice(q);
     let tree = Tree {
