@@ -469,7 +469,12 @@ mod tests {
             assert_eq!(lm.cross_motion(&lm).lane(l), ms[l].cross_motion(&ms[l]));
             assert_eq!(lm.cross_force(&lf).lane(l), ms[l].cross_force(&fs[l]));
             assert_eq!(lm.dot(&lf).0[l], ms[l].dot(&fs[l]));
-            assert_eq!(OriginInertia::<Lanes<4>>::from_const(&inertia).mul_motion(&lm).lane(l), inertia.mul_motion(&ms[l]));
+            assert_eq!(
+                OriginInertia::<Lanes<4>>::from_const(&inertia)
+                    .mul_motion(&lm)
+                    .lane(l),
+                inertia.mul_motion(&ms[l])
+            );
             assert_eq!(rigid.mul_motion(&lm).lane(l), rigid.mul_motion(&ms[l]));
             let lm2 = LMotion {
                 linear: lf.angular,

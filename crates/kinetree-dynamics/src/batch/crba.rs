@@ -190,7 +190,12 @@ pub(crate) fn crba<const L: usize>(
         let idx = block_states::<L>(start, n);
         let count = L.min(n - start);
         io.load_coordinates(q, nq, &idx, &mut bufs.q);
-        place(&tree, &bufs.q, &mut bufs.parent_from_body, &mut bufs.joint_rot);
+        place(
+            &tree,
+            &bufs.q,
+            &mut bufs.parent_from_body,
+            &mut bufs.joint_rot,
+        );
         let mut sink = Sink {
             entries: &mut bufs.entries,
             diagonal: &bufs.diagonal,
