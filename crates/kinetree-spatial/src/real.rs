@@ -8,7 +8,7 @@
 //! and `Mul<f64>`, which a lane type broadcasts.
 //!
 //! [`Real::V3`] and [`Real::M3`] are the 3-vector and 3x3 matrix of the number type: glam's
-//! `DVec3` and `DMat3` for `f64` (so the everyday [`Se3`](crate::Se3), [`Motion`](crate::Motion)
+//! `DVec3` and `DMat3` for `f64` (so the everyday [`Se3`], [`Motion`](crate::Motion)
 //! and [`Force`](crate::Force) hold glam values), [`LVec3`] and [`LMat3`] for lanes. Every
 //! operation of [`Vector3`] and [`Matrix3`] does glam's arithmetic in glam's order, so a lane's
 //! result is the `f64` result bit for bit.
