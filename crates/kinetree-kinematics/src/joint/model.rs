@@ -171,12 +171,7 @@ impl JointModel {
     #[must_use]
     pub fn act_axis(&self, x: &Se3) -> Option<Motion> {
         let (k, rev) = self.axis_index()?;
-        let axis = x.rotation.col(k);
-        Some(if rev {
-            Motion::new(x.translation.cross(axis), axis)
-        } else {
-            Motion::new(axis, DVec3::ZERO)
-        })
+        Some(axis_column(x, k, rev))
     }
 
     /// `x · S_k`: subspace column `k` moved by `x` (a joint Jacobian column when `x` is
@@ -186,17 +181,7 @@ impl JointModel {
     #[must_use]
     pub fn act_column<T: Real>(&self, x: &Se3<T>, k: usize) -> Motion<T> {
         match self.axis_index() {
-            Some((a, true)) => {
-                let axis = x.rotation.col(a);
-                Motion {
-                    linear: x.translation.cross(&axis),
-                    angular: axis,
-                }
-            }
-            Some((a, false)) => Motion {
-                linear: x.rotation.col(a),
-                angular: T::V3::ZERO,
-            },
+            Some((a, rev)) => axis_column(x, a, rev),
             None => x.act_motion(&Motion::from_const(&self.subspace_column(k))),
         }
     }
@@ -331,6 +316,24 @@ impl JointModel {
 #[inline(always)]
 fn dot_const<T: Real>(a: DVec3, x: &T::V3) -> T {
     T::V3::from_const(a).dot(x)
+}
+
+/// `x · S` for a joint about (`rev`) or along coordinate axis `a`: a column of `x`'s rotation,
+/// and for a turn the translation's cross product with it (no matrix product).
+#[inline(always)]
+fn axis_column<T: Real>(x: &Se3<T>, a: usize, rev: bool) -> Motion<T> {
+    let axis = x.rotation.col(a);
+    if rev {
+        Motion {
+            linear: x.translation.cross(&axis),
+            angular: axis,
+        }
+    } else {
+        Motion {
+            linear: axis,
+            angular: T::V3::ZERO,
+        }
+    }
 }
 
 /// `I·S` for an axis-aligned joint's subspace `S = e_K` (angular if `REV`, else linear).
