@@ -8,12 +8,14 @@ use kinetree_kinematics::spatial::{Force, Inertia, Motion, Se3, Symmetric3};
 /// A rigid body's inertia expressed in another frame: its (constant) mass, centre of mass and
 /// rotational inertia about the centre of mass in that frame's axes. The number-generic form of
 /// [`Inertia::transformed`] and [`Inertia::mul_motion`], with their operations in their order.
-#[derive(Clone, Copy, Debug)]
+#[derive(Debug)]
 pub(crate) struct RigidInertia<T: Real> {
     mass: f64,
     com: T::V3,
     rotational: Symmetric3<T>,
 }
+
+kinetree_kinematics::spatial::copy_by_value!(RigidInertia, ArticulatedInertia);
 
 impl<T: Real> RigidInertia<T> {
     /// `i` (given in frame `b`) in frame `a`, for `a_from_b = x`.
@@ -40,7 +42,7 @@ impl<T: Real> RigidInertia<T> {
 /// A symmetric 6x6 spatial inertia (rigid or articulated) in 3x3 blocks, acting on
 /// `[linear; angular]` motions: `f = A·v + B·ω`, `n = Bᵀ·v + C·ω`. Generic over the number type
 /// as the spatial types (`ArticulatedInertia` is the one-state form).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub(crate) struct ArticulatedInertia<T: Real = f64> {
     a: Symmetric3<T>,
     b: T::M3,

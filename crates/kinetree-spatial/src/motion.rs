@@ -9,7 +9,7 @@ use glam::DVec3;
 ///
 /// Generic over its number type ([`Real`]): `Motion` is `Motion<f64>`, and `Motion<Lanes<L>>`
 /// holds `L` motions side by side.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(
     feature = "serde",
@@ -32,7 +32,7 @@ pub struct Motion<T: Real = f64> {
 /// expressed in the frame's axes. Ordered `[linear; angular]` = `[force; torque]`.
 ///
 /// Generic over its number type as [`Motion`] is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(
     feature = "serde",
@@ -236,6 +236,8 @@ macro_rules! spatial_vector_common {
 
 spatial_vector_common!(Motion);
 spatial_vector_common!(Force);
+
+crate::copy_by_value!(Motion, Force);
 
 impl<T: Real> Motion<T> {
     /// The spatial cross product with a motion, `self ×ₘ m` (Featherstone's `crm(self) · m`):

@@ -19,7 +19,7 @@ use glam::DVec3;
 ///
 /// Generic over the number type ([`Real`]) as the other spatial types: `OriginInertia` is the
 /// `f64` form, `OriginInertia<T>` the one the generic algorithms carry.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 pub struct OriginInertia<T: Real = f64> {
     /// Mass (kg).
     pub m: T,
@@ -28,6 +28,8 @@ pub struct OriginInertia<T: Real = f64> {
     /// Rotational inertia about the origin (kg·m²).
     pub i: Symmetric3<T>,
 }
+
+crate::copy_by_value!(OriginInertia);
 
 impl OriginInertia {
     /// No mass.

@@ -19,7 +19,7 @@ use glam::{DMat3, DVec3};
 ///
 /// Generic over the number type ([`Real`]): `RotationForm` holds `f64`s, `RotationForm<T>` the
 /// angles (or matrix) of a block of states in lanes.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub enum RotationForm<T: Real = f64> {
     /// No rotation.
     Identity,
@@ -42,6 +42,8 @@ pub enum RotationForm<T: Real = f64> {
 const fn others(k: usize) -> (usize, usize) {
     ((k + 1) % 3, (k + 2) % 3)
 }
+
+crate::copy_by_value!(RotationForm);
 
 impl RotationForm {
     /// The cheapest form of a constant rotation matrix (exact comparisons: only rotations that

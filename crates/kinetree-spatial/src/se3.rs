@@ -25,7 +25,7 @@ use glam::{DMat3, DMat4, DQuat, DVec3, DVec4};
 ///
 /// Generic over its number type ([`Real`]): `Se3` is `Se3<f64>` (glam's `DMat3` and `DVec3`),
 /// and `Se3<Lanes<L>>` holds `L` transforms side by side for the batched sweeps.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(
     feature = "serde",
@@ -45,6 +45,8 @@ pub struct Se3<T: Real = f64> {
     /// Translation.
     pub translation: T::V3,
 }
+
+crate::copy_by_value!(Se3);
 
 impl<T: Real> Default for Se3<T> {
     #[inline(always)]

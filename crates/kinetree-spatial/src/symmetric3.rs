@@ -11,7 +11,7 @@ use glam::{DMat3, DVec3};
 /// the one the generic algorithms carry (a matrix per lane for SIMD lanes). The entries follow URDF's names: `ixx, ixy, ixz,
 /// iyy, iyz, izz` are the matrix entries (products of inertia enter with their sign as written in
 /// URDF, i.e. `ixy` is the (0, 1) entry of the tensor).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[doc(alias = "InertiaTensor")]
 pub struct Symmetric3<T: Real = f64> {
@@ -78,6 +78,8 @@ impl fmt::Display for InertiaDefect {
 }
 
 impl std::error::Error for InertiaDefect {}
+
+crate::copy_by_value!(Symmetric3);
 
 impl Symmetric3 {
     /// The zero matrix.

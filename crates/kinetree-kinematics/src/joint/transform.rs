@@ -39,13 +39,15 @@ pub(crate) fn axis_rotation<T: Real>(k: usize, s: T, c: T) -> T::M3 {
 /// The joint's own rotation when it is about a coordinate axis (the revolute joints about x, y,
 /// z), as [`JointModel::placed_transform_factored`] reports it: small enough to keep per body.
 /// Generic over the number type, as the transforms.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub struct JointRot<T: Real = f64> {
     /// 0, 1, 2 for x, y, z, or 3 for no joint rotation about a coordinate axis.
     k: usize,
     s: T,
     c: T,
 }
+
+kinetree_model::spatial::copy_by_value!(JointRot);
 
 impl JointRot {
     /// No rotation about a coordinate axis (prismatic joints, or a joint of another kind whose
