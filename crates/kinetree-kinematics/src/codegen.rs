@@ -39,6 +39,7 @@ use crate::error::KinematicsError;
 use crate::joint::JointModel;
 use glam::{DMat3, DVec3};
 use kinetree_model::Model;
+use std::cell::Cell;
 use std::fmt::Write as _;
 
 /// The language of the generated code.
@@ -70,10 +71,15 @@ struct Emitter {
     lang: Lang,
     lines: Vec<String>,
     temps: usize,
+    /// Whether a literal written so far is not finite (the model's constants overflowed).
+    overflowed: Cell<bool>,
 }
 
 impl Emitter {
     fn lit(&self, x: f64) -> String {
+        if !x.is_finite() {
+            self.overflowed.set(true);
+        }
         // `{:?}` prints the shortest text that reads back to the same f64 ("1.0", "1e-5").
         let s = format!("{x:?}");
         if x < 0.0 { format!("({s})") } else { s }
@@ -230,6 +236,15 @@ struct Pose {
 }
 
 impl Pose {
+    /// Whether every entry known at generation time is finite.
+    fn constants_finite(&self) -> bool {
+        self.r
+            .iter()
+            .flatten()
+            .chain(&self.t)
+            .all(|v| !matches!(v, V::Const(x) if !x.is_finite()))
+    }
+
     /// A constant pose, with entries below [`SNAP`] in magnitude written as zero (the
     /// `6.1e-17` that `cos(π/2)` leaves in a URDF's `rpy`), so expressions stay readable.
     fn constant(rotation: &DMat3, translation: DVec3) -> Self {
@@ -365,6 +380,282 @@ fn joint_motion(e: &mut Emitter, jm: &JointModel, q: &[V]) -> Pose {
     Pose { r, t }
 }
 
+/// Keywords of Rust (strict and reserved, every edition) and `_`, which cannot name a function.
+const RUST_RESERVED: &[&str] = &[
+    "_", "abstract", "as", "async", "await", "become", "box", "break", "const", "continue",
+    "crate", "do", "dyn", "else", "enum", "extern", "false", "final", "fn", "for", "gen", "if",
+    "impl", "in", "let", "loop", "macro", "match", "mod", "move", "mut", "override", "priv", "pub",
+    "ref", "return", "self", "Self", "static", "struct", "super", "trait", "true", "try", "type",
+    "typeof", "unsafe", "unsized", "use", "virtual", "where", "while", "yield",
+];
+
+/// Keywords of C (C99 to C23), `main`, and the names `<math.h>` declares (with their `f` and `l`
+/// variants) or defines, which the generated C includes.
+const C_RESERVED: &[&str] = &[
+    "alignas",
+    "alignof",
+    "auto",
+    "bool",
+    "break",
+    "case",
+    "char",
+    "const",
+    "constexpr",
+    "continue",
+    "default",
+    "do",
+    "double",
+    "else",
+    "enum",
+    "extern",
+    "false",
+    "float",
+    "for",
+    "goto",
+    "if",
+    "inline",
+    "int",
+    "long",
+    "main",
+    "nullptr",
+    "register",
+    "restrict",
+    "return",
+    "short",
+    "signed",
+    "sizeof",
+    "static",
+    "static_assert",
+    "struct",
+    "switch",
+    "thread_local",
+    "true",
+    "typedef",
+    "typeof",
+    "typeof_unqual",
+    "union",
+    "unsigned",
+    "void",
+    "volatile",
+    "while",
+    "_Alignas",
+    "_Alignof",
+    "_Atomic",
+    "_BitInt",
+    "_Bool",
+    "_Complex",
+    "_Decimal128",
+    "_Decimal32",
+    "_Decimal64",
+    "_Generic",
+    "_Imaginary",
+    "_Noreturn",
+    "_Static_assert",
+    "_Thread_local",
+    // <math.h>
+    "acos",
+    "acosh",
+    "asin",
+    "asinh",
+    "atan",
+    "atan2",
+    "atanh",
+    "cbrt",
+    "ceil",
+    "copysign",
+    "cos",
+    "cosh",
+    "erf",
+    "erfc",
+    "exp",
+    "exp2",
+    "expm1",
+    "fabs",
+    "fdim",
+    "floor",
+    "fma",
+    "fmax",
+    "fmin",
+    "fmod",
+    "frexp",
+    "hypot",
+    "ilogb",
+    "ldexp",
+    "lgamma",
+    "llrint",
+    "llround",
+    "log",
+    "log10",
+    "log1p",
+    "log2",
+    "logb",
+    "lrint",
+    "lround",
+    "modf",
+    "nan",
+    "nearbyint",
+    "nextafter",
+    "nexttoward",
+    "pow",
+    "remainder",
+    "remquo",
+    "rint",
+    "round",
+    "scalbln",
+    "scalbn",
+    "sin",
+    "sinh",
+    "sqrt",
+    "tan",
+    "tanh",
+    "tgamma",
+    "trunc",
+    "fpclassify",
+    "isfinite",
+    "isgreater",
+    "isgreaterequal",
+    "isinf",
+    "isless",
+    "islessequal",
+    "islessgreater",
+    "isnan",
+    "isnormal",
+    "isunordered",
+    "signbit",
+    "HUGE_VAL",
+    "HUGE_VALF",
+    "HUGE_VALL",
+    "INFINITY",
+    "NAN",
+    "FP_INFINITE",
+    "FP_NAN",
+    "FP_NORMAL",
+    "FP_SUBNORMAL",
+    "FP_ZERO",
+    "FP_ILOGB0",
+    "FP_ILOGBNAN",
+    "MATH_ERRNO",
+    "MATH_ERREXCEPT",
+    "math_errhandling",
+    "float_t",
+    "double_t",
+];
+
+/// Keywords of Python 3 and the module-level names the generated Python uses.
+const PYTHON_RESERVED: &[&str] = &[
+    "False", "None", "True", "and", "as", "assert", "async", "await", "break", "class", "continue",
+    "def", "del", "elif", "else", "except", "finally", "for", "from", "global", "if", "import",
+    "in", "is", "lambda", "nonlocal", "not", "or", "pass", "raise", "return", "try", "while",
+    "with", "yield", "math", "NQ", "range",
+];
+
+/// Checks that `name` can name the function [`generate`] writes in `lang`: an ASCII identifier
+/// (a letter or `_`, then letters, digits and `_`) that is not a keyword of `lang` or a name
+/// the generated code relies on (`<math.h>`'s functions in C, `math` in Python).
+///
+/// # Errors
+/// [`KinematicsError::InvalidCodegenName`] saying why.
+///
+/// # Examples
+/// ```
+/// use kinetree_kinematics::codegen::{Lang, check_name};
+/// assert!(check_name("tool_pose", Lang::C).is_ok());
+/// assert!(check_name("sin", Lang::C).is_err()); // <math.h>'s sin
+/// assert!(check_name("sin", Lang::Rust).is_ok());
+/// assert!(check_name("fn", Lang::Rust).is_err());
+/// assert!(check_name("pose-1", Lang::Python).is_err());
+/// ```
+pub fn check_name(name: &str, lang: Lang) -> Result<(), KinematicsError> {
+    let refuse = |reason: &'static str| {
+        Err(KinematicsError::InvalidCodegenName {
+            name: name.to_string(),
+            lang: lang.name(),
+            reason,
+        })
+    };
+    let mut chars = name.chars();
+    match chars.next() {
+        None => return refuse("it is empty"),
+        Some(c) if !(c.is_ascii_alphabetic() || c == '_') => {
+            return refuse("it must start with an ASCII letter or '_'");
+        }
+        Some(_) => {}
+    }
+    if !chars.all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return refuse("it may hold only ASCII letters, digits and '_'");
+    }
+    let (reserved, what) = match lang {
+        Lang::Rust => (RUST_RESERVED, "it is a Rust keyword"),
+        Lang::C => (
+            C_RESERVED,
+            "it is a C keyword or a name of <math.h>, which the code includes",
+        ),
+        Lang::Python => (
+            PYTHON_RESERVED,
+            "it is a Python keyword or a name the generated module uses",
+        ),
+    };
+    // `<math.h>` declares `sinf` and `sinl` beside `sin`.
+    let base = match lang {
+        Lang::C => name
+            .strip_suffix(['f', 'l'])
+            .filter(|b| C_RESERVED.contains(b) && b.chars().all(|c| c.is_ascii_lowercase()))
+            .unwrap_or(name),
+        _ => name,
+    };
+    if reserved.contains(&name) || reserved.contains(&base) {
+        return refuse(what);
+    }
+    Ok(())
+}
+
+/// `text` made safe inside the leading comment of `lang`: control characters and the Unicode
+/// line and paragraph separators become spaces; in C `*/`, `/*` and `??` (a trigraph's start)
+/// are broken apart; in Python (a docstring) `\` and `"` are escaped.
+fn comment_text(text: &str, lang: Lang) -> String {
+    let flat: String = text
+        .chars()
+        .map(|c| {
+            if c.is_control() || c == '\u{2028}' || c == '\u{2029}' {
+                ' '
+            } else {
+                c
+            }
+        })
+        .collect();
+    match lang {
+        Lang::Rust => flat,
+        Lang::C => {
+            // Repeated until stable: breaking one pair may not create another, but `*/*/`
+            // needs two passes.
+            let mut s = flat;
+            loop {
+                let t = s
+                    .replace("*/", "* /")
+                    .replace("/*", "/ *")
+                    .replace("??", "? ?");
+                if t == s {
+                    return s;
+                }
+                s = t;
+            }
+        }
+        Lang::Python => flat.replace('\\', "\\\\").replace('"', "\\\""),
+    }
+}
+
+impl Lang {
+    /// The language's name in messages: `"Rust"`, `"C"`, `"Python"`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Rust => "Rust",
+            Self::C => "C",
+            Self::Python => "Python",
+        }
+    }
+}
+
 /// `name` made a valid identifier in every target language (other characters become `_`, a
 /// leading digit gets a `_` before it).
 #[must_use]
@@ -379,20 +670,26 @@ pub fn identifier(name: &str) -> String {
     s
 }
 
-/// The world pose of `frame` as a function named `name` (made an identifier by [`identifier`])
-/// in `lang`; see the [module documentation](self) for the signatures.
+/// The world pose of `frame` as a function named `name` in `lang`; see the
+/// [module documentation](self) for the signatures. `name` must be an ASCII identifier that is
+/// neither a keyword of `lang` nor a name the generated code uses ([`check_name`]);
+/// [`identifier`] makes one of any text. The frame's and the model's names go into the leading
+/// comment escaped for it.
 ///
 /// # Errors
-/// [`KinematicsError::FrameOutOfRange`] for a frame `model` does not have.
+/// [`KinematicsError::InvalidCodegenName`] for a `name` [`check_name`] refuses,
+/// [`KinematicsError::FrameOutOfRange`] for a frame `model` does not have,
+/// [`KinematicsError::Overflow`] when a constant of the code is not finite (placements too
+/// large for `f64`, which [`forward_kinematics`](crate::forward_kinematics) refuses too).
 pub fn generate(
     model: &Model,
     frame: FrameId,
     lang: Lang,
     name: &str,
 ) -> Result<String, KinematicsError> {
+    check_name(name, lang)?;
     let (body, body_from_frame) = frame.body(model)?;
     let frame_name = frame.name(model)?.to_string();
-    let name = identifier(name);
     let bodies = model.bodies();
     let mut path = Vec::new();
     let mut b = body;
@@ -405,6 +702,7 @@ pub fn generate(
         lang,
         lines: Vec::new(),
         temps: 0,
+        overflowed: Cell::new(false),
     };
     let mut pose = Pose::identity();
     let mut used = Vec::new();
@@ -426,9 +724,15 @@ pub fn generate(
         let motion = joint_motion(&mut e, &jm, &q);
         let local = placement.then(&mut e, &motion);
         pose = pose.then(&mut e, &local);
+        if e.overflowed.get() || !pose.constants_finite() {
+            return Err(crate::forward::overflow(model, "placement", i));
+        }
     }
     let last = Pose::constant(&body_from_frame.rotation, body_from_frame.translation);
     pose = pose.then(&mut e, &last);
+    if e.overflowed.get() || !pose.constants_finite() {
+        return Err(crate::forward::overflow(model, "placement", body));
+    }
     used.sort_unstable();
     used.dedup();
     let nq = model.nq();
@@ -441,11 +745,12 @@ pub fn generate(
         .chain(["0.0", "0.0", "0.0", "1.0"].map(String::from))
         .collect();
     let body_lines = e.statements(&entries);
-    let header = format!(
-        "World pose of frame '{}' of model '{}' (generated by kinetree): the 4x4 homogeneous matrix, row-major, of the configuration q (length {nq}; used entries: {:?}).",
-        frame_name.replace(['\n', '\r'], " "),
-        model.name().replace(['\n', '\r'], " "),
-        used
+    let header = comment_text(
+        &format!(
+            "World pose of frame '{frame_name}' of model '{}' (generated by kinetree): the 4x4 homogeneous matrix, row-major, of the configuration q (length {nq}; used entries: {used:?}).",
+            model.name(),
+        ),
+        lang,
     );
     let mut out = String::new();
     match lang {

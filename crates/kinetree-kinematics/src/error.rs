@@ -58,6 +58,17 @@ pub enum KinematicsError {
         /// The first body (named by its link) whose result is not finite.
         body: String,
     },
+    /// A name for the function [`crate::codegen::generate`] writes that the target language
+    /// cannot use (see [`crate::codegen::check_name`]).
+    #[error("'{name}' cannot name the generated {lang} function: {reason}")]
+    InvalidCodegenName {
+        /// The name as given.
+        name: String,
+        /// The target language.
+        lang: &'static str,
+        /// Why not.
+        reason: &'static str,
+    },
     /// A state of a batch (see [`crate::batch`]) failed: `index` is the state's position in the
     /// batch and `source` says what was wrong with it.
     #[error("state {index} of the batch: {source}")]

@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result};
 use kinetree::kinematics::FrameId;
-use kinetree::kinematics::codegen::{Lang, generate};
+use kinetree::kinematics::codegen::{Lang, generate, identifier};
 use std::path::PathBuf;
 
 /// Arguments of `kinetree codegen`.
@@ -49,10 +49,11 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         LangArg::C => Lang::C,
         LangArg::Python => Lang::Python,
     };
+    // A name given is checked as it is; the default is made an identifier.
     let name = args
         .name
         .clone()
-        .unwrap_or_else(|| format!("fk_{}", args.frame));
+        .unwrap_or_else(|| identifier(&format!("fk_{}", args.frame)));
     let source = generate(&model, frame, lang, &name)?;
     match &args.out {
         Some(path) => std::fs::write(path, source)
