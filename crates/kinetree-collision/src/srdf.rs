@@ -3,7 +3,7 @@
 
 use crate::error::CollisionError;
 use crate::model::CollisionModel;
-use kinetree_kinematics::model::Model;
+use kinetree_kinematics::model::{MAX_XML_DEPTH, Model};
 use quick_xml::events::Event;
 
 /// A `<disable_collisions link1=".." link2=".." reason=".."/>` entry.
@@ -38,6 +38,7 @@ pub struct DisabledPair {
 pub fn parse_disabled_pairs(srdf: &str) -> Result<Vec<DisabledPair>, CollisionError> {
     let mut reader = quick_xml::Reader::from_str(srdf);
     let mut out = Vec::new();
+    let mut depth = 0usize;
     loop {
         let position = reader.buffer_position();
         let event = reader.read_event().map_err(|e| CollisionError::Srdf {
@@ -45,7 +46,21 @@ pub fn parse_disabled_pairs(srdf: &str) -> Result<Vec<DisabledPair>, CollisionEr
             message: e.to_string(),
         })?;
         let element = match &event {
-            Event::Start(e) | Event::Empty(e) => e,
+            Event::Start(e) => {
+                depth += 1;
+                if depth > MAX_XML_DEPTH {
+                    return Err(CollisionError::Srdf {
+                        position,
+                        message: format!("elements nested deeper than {MAX_XML_DEPTH} levels"),
+                    });
+                }
+                e
+            }
+            Event::Empty(e) => e,
+            Event::End(_) => {
+                depth = depth.saturating_sub(1);
+                continue;
+            }
             Event::Eof => break,
             _ => continue,
         };

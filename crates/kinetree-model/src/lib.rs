@@ -108,6 +108,7 @@ pub mod units;
 pub mod urdf;
 mod user_joints;
 mod xml_tree;
+pub use xml_tree::MAX_XML_DEPTH;
 pub mod yapcad;
 
 pub use builder::{

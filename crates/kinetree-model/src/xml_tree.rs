@@ -4,10 +4,10 @@
 
 use quick_xml::events::{BytesStart, Event};
 
-/// The deepest element nesting accepted, as tinyxml2's (MuJoCo's XML parser) limit: deeper
-/// documents are refused with an error instead of exhausting the stack of the code that walks
-/// the tree.
-pub(crate) const MAX_XML_DEPTH: usize = 500;
+/// The deepest element nesting every XML reader accepts (URDF, MJCF, SDFormat, SRDF), as
+/// tinyxml2's (MuJoCo's XML parser) limit: deeper documents are refused with an error, before
+/// any recursion, instead of exhausting the stack of the code that walks the tree.
+pub const MAX_XML_DEPTH: usize = 500;
 
 /// One XML element: its name, attributes in document order, child elements, the 1-based line of
 /// its start tag and its own text content (MJCF carries none that matters; SDFormat puts every

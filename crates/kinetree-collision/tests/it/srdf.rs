@@ -52,6 +52,23 @@ fn srdf_disable_collisions_removes_link_pairs() {
         parse_disabled_pairs("<robot><a></b></robot>"),
         Err(CollisionError::Srdf { .. })
     ));
+    // Nesting is limited as in every XML reader: the deepest accepted, then one more.
+    let nested = |depth: usize| {
+        format!(
+            "{}<disable_collisions link1=\"a\" link2=\"b\"/>{}",
+            "<g>".repeat(depth),
+            "</g>".repeat(depth)
+        )
+    };
+    let limit = kinetree_collision::kinematics::model::MAX_XML_DEPTH;
+    assert_eq!(parse_disabled_pairs(&nested(limit)).unwrap().len(), 1);
+    for depth in [limit + 1, 20_000] {
+        let e = parse_disabled_pairs(&nested(depth)).unwrap_err();
+        assert!(
+            matches!(&e, CollisionError::Srdf { message, .. } if message.contains("nested deeper than 500")),
+            "{e}"
+        );
+    }
     // Options take disabled pairs too; written entries parse back.
     let pairs = parse_disabled_pairs(srdf).unwrap();
     assert_eq!(

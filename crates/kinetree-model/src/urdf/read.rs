@@ -419,6 +419,19 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Scan, ModelError> {
             }
         }
         if !empty {
+            // urdf-rs reads the document recursively: refuse deep nesting before it does.
+            if stack.len() >= crate::MAX_XML_DEPTH {
+                let (line, column) = line_column(text, event_start);
+                return Err(ModelError::Xml {
+                    file: file.map(Path::to_path_buf),
+                    line,
+                    column,
+                    message: format!(
+                        "elements nested deeper than {} levels",
+                        crate::MAX_XML_DEPTH
+                    ),
+                });
+            }
             stack.push((tag, name));
         }
     }
@@ -464,6 +477,33 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 mod tests {
     use super::*;
     use crate::ModelBuilder;
+
+    #[test]
+    fn deep_nesting_is_refused_before_urdf_rs_recurses_into_it() {
+        // 20 000 levels overflowed the stack inside urdf-rs (the CLI aborted, Python crashed).
+        let nested = |depth: usize| {
+            format!(
+                "<robot name=\"r\"><link name=\"a\"/>{}{}</robot>",
+                "<x>".repeat(depth),
+                "</x>".repeat(depth)
+            )
+        };
+        for depth in [crate::MAX_XML_DEPTH, 20_000] {
+            let e = from_urdf(&nested(depth), &LoadOptions::default(), None).unwrap_err();
+            assert!(
+                matches!(&e, ModelError::Xml { line: 1, message, .. } if message.contains("nested deeper than 500")),
+                "{e}"
+            );
+        }
+        // One level less is read (the unknown element is listed as ignored).
+        let model = from_urdf(
+            &nested(crate::MAX_XML_DEPTH - 1),
+            &LoadOptions::default(),
+            None,
+        )
+        .unwrap();
+        assert_eq!(model.links().len(), 1);
+    }
 
     const TEXTURED: &str = r#"<robot name="textured">
   <material name="skin"><texture filename="skin.png"></texture><color rgba="0 0 1 1"/></material>
