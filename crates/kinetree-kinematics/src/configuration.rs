@@ -137,7 +137,9 @@ pub fn random_configuration<R: Rng + ?Sized>(
 /// time) into `q_out`. Quaternions in the result are normalized. Allocates nothing.
 ///
 /// # Errors
-/// Length or finiteness errors for `q`, `v`, `q_out`.
+/// Length or finiteness errors for `q`, `v`, `q_out`; [`KinematicsError::Overflow`] naming the
+/// first joint's body whose result is not finite (a velocity too large for `f64`, as `1e154` on
+/// a free joint).
 pub fn integrate(
     model: &Model,
     q: &[f64],
@@ -155,7 +157,20 @@ pub fn integrate(
             &mut q_out[b.idx_q..b.idx_q + b.nq],
         );
     }
-    Ok(())
+    check_result(model, q_out)
+}
+
+/// [`KinematicsError::Overflow`] of the `"configuration"` naming the first body whose
+/// coordinates in `q` (a result of [`integrate`] or [`interpolate`]) are not finite.
+fn check_result(model: &Model, q: &[f64]) -> Result<(), KinematicsError> {
+    match model
+        .bodies()
+        .iter()
+        .position(|b| q[b.idx_q..b.idx_q + b.nq].iter().any(|x| !x.is_finite()))
+    {
+        None => Ok(()),
+        Some(i) => Err(crate::forward::overflow(model, "configuration", i)),
+    }
 }
 
 /// Writes the velocity `v` with `q0 ⊕ v = q1` into `v_out` (continuous joints take the short way
@@ -187,7 +202,8 @@ pub fn difference(
 /// manifold) into `q_out`. Allocates nothing.
 ///
 /// # Errors
-/// Length or finiteness errors.
+/// Length or finiteness errors (of `q0`, `q1`, `t`); [`KinematicsError::Overflow`] when the
+/// result is not finite (a `t` too large for `f64`).
 pub fn interpolate(
     model: &Model,
     q0: &[f64],
@@ -197,6 +213,7 @@ pub fn interpolate(
 ) -> Result<(), KinematicsError> {
     check_q(model, "q0", q0)?;
     check_q(model, "q1", q1)?;
+    check_vector("t", &[t], 1)?;
     check_len("q_out", q_out, model.nq())?;
     // Per joint, without a scratch buffer: integrate(q0, t · difference(q0, q1)).
     let mut v = [0.0f64; 6];
@@ -209,7 +226,7 @@ pub fn interpolate(
         }
         integrate_joint(b.kind, a, v, &mut q_out[b.idx_q..b.idx_q + b.nq]);
     }
-    Ok(())
+    check_result(model, q_out)
 }
 
 /// Checks that `q` is a configuration of `model`: length `nq`, finite, and every quaternion

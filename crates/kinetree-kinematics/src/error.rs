@@ -53,7 +53,9 @@ pub enum KinematicsError {
         "the {what} of body '{body}' overflowed although every input is finite: the joint values, velocities or the model's lengths are too large"
     )]
     Overflow {
-        /// `"placement"`, `"velocity"` or `"acceleration"`.
+        /// `"placement"`, `"velocity"`, `"acceleration"` or `"configuration"` (of
+        /// [`integrate`](crate::configuration::integrate) and
+        /// [`interpolate`](crate::configuration::interpolate)).
         what: &'static str,
         /// The first body (named by its link) whose result is not finite.
         body: String,

@@ -30,6 +30,13 @@ pub enum ReachableError {
         /// The size given, in metres.
         size: f64,
     },
+    /// A voxel size so large that the volume of the voxels overflows (or so small that one
+    /// voxel's volume underflows to zero).
+    #[error("voxel size {} m is out of range: the volume of the voxels is not a finite positive number", Readable(*size))]
+    VoxelSizeOutOfRange {
+        /// The size given, in metres.
+        size: f64,
+    },
     /// A voxel size is so small that voxel indices of the samples overflow.
     #[error(
         "voxel size {} m is too small for points {} m from the origin",

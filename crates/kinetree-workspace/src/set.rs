@@ -137,7 +137,9 @@ impl ReachableSet {
     ///
     /// # Errors
     /// [`ReachableError::InvalidVoxelSize`] when `voxel_size` is not positive and finite,
-    /// [`ReachableError::VoxelTooSmall`] when voxel indices would overflow.
+    /// [`ReachableError::VoxelSizeOutOfRange`] when the voxels' volume would not be a finite
+    /// positive number (`1e308`), [`ReachableError::VoxelTooSmall`] when voxel indices would
+    /// overflow.
     ///
     /// # Examples
     /// ```
@@ -148,6 +150,7 @@ impl ReachableSet {
     /// let model = samples::planar_2r(1.0, 1.0);
     /// let set = sample_reachable(&model, FrameId::find(&model, "tool")?, &ReachableParams::grid(50))?;
     /// assert!(matches!(set.voxelize(0.0), Err(ReachableError::InvalidVoxelSize { .. })));
+    /// assert!(matches!(set.voxelize(1e308), Err(ReachableError::VoxelSizeOutOfRange { .. })));
     /// let voxels = set.voxelize(0.1)?;
     /// assert!(voxels.len() > 100);
     /// # Ok(())
@@ -156,6 +159,11 @@ impl ReachableSet {
     pub fn voxelize(&self, voxel_size: f64) -> Result<VoxelMap, ReachableError> {
         if !(voxel_size.is_finite() && voxel_size > 0.0) {
             return Err(ReachableError::InvalidVoxelSize { size: voxel_size });
+        }
+        // The volume is at most one voxel per sample: it must be finite, and a voxel's positive.
+        let cell = voxel_size.powi(3);
+        if !(cell > 0.0 && (cell * self.positions.len().max(1) as f64).is_finite()) {
+            return Err(ReachableError::VoxelSizeOutOfRange { size: voxel_size });
         }
         let far = self
             .bounds

@@ -331,3 +331,52 @@ fn a_batch_checks_quaternions_as_the_one_state_call() {
         }
     }
 }
+
+#[test]
+fn integrate_and_interpolate_refuse_results_too_large_for_f64() {
+    use kinetree_kinematics::configuration::interpolate;
+    let model = floating_ball();
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let q0 = [
+        0.0, 0.0, 0.0, 0.0, 0.0, s, s, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ];
+    let mut out = vec![0.0; 14];
+    // 1e154 on the free root: its exponential map squares the velocity (NaN before).
+    let mut v = [0.0; 12];
+    v[..6].fill(1e154);
+    match integrate(&model, &q0, &v, &mut out) {
+        Err(KinematicsError::Overflow {
+            what: "configuration",
+            body,
+        }) => assert_eq!(body, "base"),
+        other => panic!("expected Overflow, got {other:?}"),
+    }
+    // The ball joint's own block is named by its body.
+    v[..6].fill(0.0);
+    v[6..].fill(1e154);
+    match integrate(&model, &q0, &v, &mut out) {
+        Err(KinematicsError::Overflow { body, .. }) => assert_eq!(body, "arm"),
+        other => panic!("expected Overflow, got {other:?}"),
+    }
+    // A large but representable step is integrated: a pure translation of 1e150 along x.
+    let mut v = [0.0; 12];
+    v[0] = 1e150;
+    integrate(&model, &q0, &v, &mut out).unwrap();
+    assert!(out.iter().all(|x| x.is_finite()), "{out:?}");
+    // Interpolation: a fraction too large for the distance overflows; NaN is refused up front.
+    let mut q1 = q0;
+    q1[0] = 1e10;
+    match interpolate(&model, &q0, &q1, 1e300, &mut out) {
+        Err(KinematicsError::Overflow {
+            what: "configuration",
+            body,
+        }) => assert_eq!(body, "base"),
+        other => panic!("expected Overflow, got {other:?}"),
+    }
+    assert!(matches!(
+        interpolate(&model, &q0, &q1, f64::NAN, &mut out),
+        Err(KinematicsError::NonFinite { what: "t", .. })
+    ));
+    interpolate(&model, &q0, &q1, 0.5, &mut out).unwrap();
+    assert!((out[0] - 5e9).abs() < 1e-3, "{}", out[0]);
+}

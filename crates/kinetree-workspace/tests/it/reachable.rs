@@ -385,8 +385,21 @@ fn bad_inputs_are_typed_errors() {
     }
     assert!(matches!(
         set.voxelize(1e-300),
+        Err(ReachableError::VoxelSizeOutOfRange { .. })
+    ));
+    assert!(matches!(
+        set.voxelize(1e-90),
         Err(ReachableError::VoxelTooSmall { .. })
     ));
+    // A size whose volume overflows (`inf m³` before), and the largest that does not.
+    for size in [1e308, 1e103] {
+        assert!(matches!(
+            set.voxelize(size),
+            Err(ReachableError::VoxelSizeOutOfRange { .. })
+        ));
+    }
+    let huge = set.voxelize(1e100).unwrap();
+    assert!(huge.volume().is_finite() && huge.volume() > 0.0);
     assert!(matches!(
         set.max_reach(DVec3::new(f64::NAN, 0.0, 0.0)),
         Err(ReachableError::NonFinite { what: "base" })
