@@ -323,6 +323,50 @@ impl<'a, 'py> FromPyObject<'a, 'py> for Real {
     }
 }
 
+/// A whole-number argument (a count, a size, a seed): any Python `int`, checked by name where
+/// it is used ([`Count::get`]).
+///
+/// A `usize` or `u64` parameter would let PyO3 raise `OverflowError` for `-1` or `10**30`, not
+/// a kinetree error naming the argument; other types stay a `TypeError` naming it.
+#[derive(Clone, Debug)]
+pub(crate) struct Count(Result<u64, String>);
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Count {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        match obj.extract::<u64>() {
+            Ok(n) => Ok(Self(Ok(n))),
+            // Negative or too large: kept as text for the error that names the argument.
+            Err(_) if obj.is_instance_of::<PyInt>() => Ok(Self(Err(obj.str()?.to_string()))),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+impl Count {
+    /// A default value in a `#[pyo3(signature)]`.
+    pub(crate) const fn of(n: u64) -> Self {
+        Self(Ok(n))
+    }
+
+    /// The value, or the `family`'s error naming `name` for a negative or too large one.
+    pub(crate) fn get(&self, name: &str, family: Family) -> PyResult<u64> {
+        self.0.clone().map_err(|text| {
+            family.err(format!(
+                "{name} must be a whole number from 0 to {}, got {text}",
+                u64::MAX
+            ))
+        })
+    }
+
+    /// [`Count::get`] as a `usize`.
+    pub(crate) fn size(&self, name: &str, family: Family) -> PyResult<usize> {
+        let n = self.get(name, family)?;
+        usize::try_from(n).map_err(|_| family.err(format!("{name} = {n} does not fit a usize")))
+    }
+}
+
 /// A finite scalar argument.
 pub(crate) fn finite(x: f64, name: &str, family: Family) -> PyResult<f64> {
     if x.is_finite() {

@@ -3,7 +3,7 @@
 //! damping, friction and armature left out), as Pinocchio computes them.
 
 use crate::arrays::{
-    ArrayPair, Real, States, finite, in_block, reserve, run, run_blocks, states, to_numpy,
+    ArrayPair, Count, Real, States, finite, in_block, reserve, run, run_blocks, states, to_numpy,
 };
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
@@ -382,7 +382,7 @@ impl PyModel {
     /// >>> qs, vs = panda.simulate(panda.neutral(), np.zeros(9), dt=1e-3, steps=100)
     /// >>> qs.shape, vs.shape
     /// ((101, 9), (101, 9))
-    #[pyo3(signature = (q0, v0, tau = None, dt = Real(1e-3), steps = 1000, integrator = "rk4"),
+    #[pyo3(signature = (q0, v0, tau = None, dt = Real(1e-3), steps = Count::of(1000), integrator = "rk4"),
         text_signature = "($self, q0, v0, tau=None, dt=0.001, steps=1000, integrator=\"rk4\")")]
     #[allow(
         clippy::too_many_arguments,
@@ -395,11 +395,12 @@ impl PyModel {
         v0: &Bound<'py, PyAny>,
         tau: Option<&Bound<'py, PyAny>>,
         dt: Real,
-        steps: usize,
+        steps: Count,
         integrator: &str,
     ) -> PyResult<ArrayPair<'py>> {
         let (nq, nv) = (self.model.nq(), self.model.nv());
         let dt = finite(dt.0, "dt", F)?;
+        let steps = steps.size("steps", F)?;
         let integrator = match integrator {
             "rk4" => Integrator::RungeKutta4,
             "euler" | "semi_implicit_euler" => Integrator::SemiImplicitEuler,

@@ -1,7 +1,7 @@
 //! `IkSolver` and `IkReport`: inverse kinematics of one or several frames, one goal or a batch
 //! of goals solved in parallel with the GIL released.
 
-use crate::arrays::{Real, states, to_numpy};
+use crate::arrays::{Count, Real, states, to_numpy};
 use crate::errors::{Family, to_py};
 use crate::model::PyModel;
 use kinetree::kinematics::ik::{IkParams, IkReport, IkSolver, IkStatus, IkTarget};
@@ -258,8 +258,9 @@ impl PyIkSolver {
     /// parameters are those of the Rust ``IkParams`` (see its documentation for the defaults).
     #[new]
     #[pyo3(signature = (model, *, position_tolerance = Real(1e-6), orientation_tolerance = Real(1e-5),
-        max_iterations = 10_000, max_iterations_per_try = 60, max_restarts = None,
-        time_budget = Some(Real(0.005)), seed = 0, max_targets = 4,
+        max_iterations = Count::of(10_000), max_iterations_per_try = Count::of(60),
+        max_restarts = None, time_budget = Some(Real(0.005)), seed = Count::of(0),
+        max_targets = Count::of(4),
         orientation_weight = Real(0.35), damping = Real(0.1)),
         text_signature = "(model, *, position_tolerance=1e-6, orientation_tolerance=1e-5, \
             max_iterations=10000, max_iterations_per_try=60, max_restarts=None, \
@@ -272,15 +273,27 @@ impl PyIkSolver {
         model: &PyModel,
         position_tolerance: Real,
         orientation_tolerance: Real,
-        max_iterations: usize,
-        max_iterations_per_try: usize,
-        max_restarts: Option<usize>,
+        max_iterations: Count,
+        max_iterations_per_try: Count,
+        max_restarts: Option<Count>,
         time_budget: Option<Real>,
-        seed: u64,
-        max_targets: usize,
+        seed: Count,
+        max_targets: Count,
         orientation_weight: Real,
         damping: Real,
     ) -> PyResult<Self> {
+        let [max_iterations, max_iterations_per_try, max_targets] = [
+            (max_iterations, "max_iterations"),
+            (max_iterations_per_try, "max_iterations_per_try"),
+            (max_targets, "max_targets"),
+        ]
+        .map(|(n, name)| n.size(name, F));
+        let (max_iterations, max_iterations_per_try, max_targets) =
+            (max_iterations?, max_iterations_per_try?, max_targets?);
+        let max_restarts = max_restarts
+            .map(|n| n.size("max_restarts", F))
+            .transpose()?;
+        let seed = seed.get("seed", F)?;
         let [
             position_tolerance,
             orientation_tolerance,

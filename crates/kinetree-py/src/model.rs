@@ -1,6 +1,6 @@
 //! The `Model` class: loading, sizes, names, limits, configuration-space helpers and pickling.
 
-use crate::arrays::{Real, States, finite, run_with, stack_states, states, to_numpy};
+use crate::arrays::{Count, Real, States, finite, run_with, stack_states, states, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::kinematics::FrameCache;
 use crate::scratch::Pool;
@@ -472,10 +472,14 @@ impl PyModel {
     fn random_configuration<'py>(
         &self,
         py: Python<'py>,
-        n: Option<usize>,
-        seed: Option<u64>,
+        n: Option<Count>,
+        seed: Option<Count>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let nq = self.model.nq();
+        let n = n.map(|n| n.size("n", Family::Kinematics)).transpose()?;
+        let seed = seed
+            .map(|s| s.get("seed", Family::Kinematics))
+            .transpose()?;
         let mut rng = match seed {
             Some(s) => SmallRng::seed_from_u64(s),
             None => SmallRng::seed_from_u64(

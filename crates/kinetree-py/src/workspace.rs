@@ -3,7 +3,7 @@
 //! merge, so sampling can be split over processes or machines (see
 //! `examples/python/distributed_reachability.py`).
 
-use crate::arrays::{ArrayPair, Real, finite, to_numpy};
+use crate::arrays::{ArrayPair, Count, Real, finite, to_numpy};
 use crate::errors::{Family, py_err};
 use crate::model::PyModel;
 use kinetree::kinematics::spatial::DVec3;
@@ -28,7 +28,8 @@ impl PyModel {
     /// >>> ws = panda.sample_workspace("panda_hand_tcp", samples=2000, seed=0)
     /// >>> ws.positions.shape, ws.manipulability.shape
     /// ((2000, 3), (2000,))
-    #[pyo3(signature = (frame, samples = None, seed = 0, grid = None, task = "position", q0 = None))]
+    #[pyo3(signature = (frame, samples = None, seed = Count::of(0), grid = None, task = "position", q0 = None),
+        text_signature = "($self, frame, samples=None, seed=0, grid=None, task=\"position\", q0=None)")]
     #[allow(
         clippy::too_many_arguments,
         reason = "a Python signature with keyword defaults"
@@ -37,13 +38,16 @@ impl PyModel {
         &self,
         py: Python<'_>,
         frame: &str,
-        samples: Option<usize>,
-        seed: u64,
-        grid: Option<usize>,
+        samples: Option<Count>,
+        seed: Count,
+        grid: Option<Count>,
         task: &str,
         q0: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyReachableSet> {
         let id = self.frame(frame, F)?;
+        let samples = samples.map(|n| n.size("samples", F)).transpose()?;
+        let seed = seed.get("seed", F)?;
+        let grid = grid.map(|k| k.size("grid", F)).transpose()?;
         let mut params = match (samples, grid) {
             (Some(n), None) => ReachableParams::random(n, seed),
             (None, Some(k)) => ReachableParams::grid(k),

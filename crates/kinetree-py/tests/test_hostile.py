@@ -3,9 +3,9 @@
 Each callable has one valid call (the baseline, which must succeed); the catalogue replaces
 one argument at a time by each hostile value (wrong shapes and dtypes, NaN, inf, 1e308,
 subnormals, bad names, bad files, huge sizes). The outcome must be a result without NaN, or a
-kinetree exception, ValueError or TypeError (OverflowError too: Python's own refusal of an int
-too large for the argument). Never a crash, a hang, or a Rust panic (pyo3's PanicException is a
-BaseException, so it is not caught as an Exception and fails the test).
+kinetree exception, ValueError or TypeError; not OverflowError (an int out of an argument's
+range is a kinetree error naming the argument). Never a crash, a hang, or a Rust panic (pyo3's
+PanicException is a BaseException, so it is not caught as an Exception and fails the test).
 """
 
 import math
@@ -19,7 +19,7 @@ from conftest import ROOT
 
 NAN, INF = float("nan"), float("inf")
 ROBOTS = ROOT / "tests" / "data" / "robots"
-ACCEPTED = (kinetree.KinetreeError, ValueError, TypeError, OverflowError)
+ACCEPTED = (kinetree.KinetreeError, ValueError, TypeError)
 
 
 def hostile_values(n):
@@ -246,3 +246,30 @@ def test_huge_sizes_are_refused_not_attempted(setup):
         with pytest.raises(ValueError, match="do not fit in memory"):
             fn(*args, **kwargs)
 
+
+
+def test_counts_out_of_range_are_kinetree_errors_naming_the_argument(setup):
+    """-1 or 2**64 for a count or a seed raised OverflowError, not a kinetree error."""
+    model = setup[0]
+    q, z = model.neutral(), np.zeros(model.nv)
+    cases = [
+        (model.random_configuration, [-1], {}, "n", kinetree.KinematicsError),
+        (model.random_configuration, [], {"seed": -1}, "seed", kinetree.KinematicsError),
+        (model.random_configuration, [], {"seed": 2**64}, "seed", kinetree.KinematicsError),
+        (model.simulate, [q, z], {"steps": -1}, "steps", kinetree.DynamicsError),
+        (model.sample_workspace, ["panda_hand"], {"samples": -5}, "samples", kinetree.KinetreeError),
+        (model.sample_workspace, ["panda_hand"], {"grid": 10**30}, "grid", kinetree.KinetreeError),
+        (model.sample_workspace, ["panda_hand"], {"seed": -1}, "seed", kinetree.KinetreeError),
+        (kinetree.IkSolver, [model], {"max_targets": -1}, "max_targets", kinetree.IkError),
+        (kinetree.IkSolver, [model], {"max_iterations": -3}, "max_iterations", kinetree.IkError),
+        (kinetree.IkSolver, [model], {"max_iterations_per_try": -3}, "max_iterations_per_try", kinetree.IkError),
+        (kinetree.IkSolver, [model], {"max_restarts": -1}, "max_restarts", kinetree.IkError),
+        (kinetree.IkSolver, [model], {"seed": -(2**70)}, "seed", kinetree.IkError),
+    ]
+    for fn, args, kwargs, name, error in cases:
+        with pytest.raises(error, match=rf"^{name} must be a whole number from 0 to 18446744073709551615, got -?\d+$"):
+            fn(*args, **kwargs)
+    # Still a TypeError naming the argument for what is not an int; the largest seed is valid.
+    with pytest.raises(TypeError, match="seed"):
+        model.random_configuration(seed=1.5)
+    assert model.random_configuration(seed=2**64 - 1).shape == (model.nq,)
