@@ -251,12 +251,25 @@ impl Model {
     }
 }
 
+/// The most rows a DH table may have (a serial chain of that many joints): the model of 10⁸
+/// rows would not fit in memory, and no arm has more than a few dozen.
+pub const MAX_DH_ROWS: usize = 10_000;
+
 /// Builds the model of `table`; `decorate(row, link, link_from_dh)` may add to each link (for
 /// example geometry given in DH frame `row + 1`) before it is added.
 pub(crate) fn dh_model(
     table: &DhTable,
     decorate: impl Fn(usize, &mut Link, &Se3),
 ) -> Result<Model, ModelError> {
+    if table.rows.len() > MAX_DH_ROWS {
+        return Err(ModelError::DhTable {
+            row: MAX_DH_ROWS,
+            message: format!(
+                "the table has {} rows, more than the {MAX_DH_ROWS} accepted",
+                table.rows.len()
+            ),
+        });
+    }
     let mut b = ModelBuilder::new(table.name.clone());
     let base = table.base_name.clone().unwrap_or_else(|| "base".into());
     b.add_link(Link::new(base.clone()));
@@ -320,6 +333,20 @@ mod tests {
     use super::*;
     use core::f64::consts::FRAC_PI_2;
     use kinetree_spatial::Symmetric3;
+
+    #[test]
+    fn tables_longer_than_the_limit_are_refused_by_row_count() {
+        let row = DhRow::new(JointKind::Revolute, 0.01, 0.0, 0.0, 0.0);
+        let mut table = DhTable::new("long", DhConvention::Standard);
+        table.rows = vec![row; MAX_DH_ROWS + 1];
+        let e = Model::from_dh(&table).unwrap_err();
+        assert!(
+            matches!(&e, ModelError::DhTable { row: MAX_DH_ROWS, message } if message.contains("10001 rows")),
+            "{e}"
+        );
+        table.rows.pop();
+        assert_eq!(Model::from_dh(&table).unwrap().nq(), MAX_DH_ROWS);
+    }
 
     /// Forward kinematics by hand over the model's bodies: world pose of every body.
     fn body_poses(model: &Model, q: &[f64]) -> Vec<Se3> {

@@ -45,7 +45,11 @@ fn goals(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<Goal>, bool)> {
             ))
         })?;
     let shape = array.shape().to_vec();
-    let values: Vec<f64> = array.as_array().iter().copied().collect();
+    // A broadcast view of 10⁹ poses is small; its copy is not: refuse it instead of aborting.
+    let len = shape.iter().try_fold(1usize, |n, &k| n.checked_mul(k));
+    crate::arrays::fits(len, name, F)?;
+    let mut values = crate::arrays::reserve(len.unwrap_or(0), name, F)?;
+    values.extend(array.as_array().iter().copied());
     if let Some(k) = values.iter().position(|x| !x.is_finite()) {
         return Err(F.err(format!(
             "{name} has {} at flat index {k}: inputs must be finite",
@@ -65,7 +69,13 @@ fn goals(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<Goal>, bool)> {
         }
     };
     let width = if pose { 16 } else { 3 };
-    let mut out = Vec::with_capacity(values.len() / width);
+    let mut out = Vec::new();
+    out.try_reserve_exact(values.len() / width).map_err(|_| {
+        F.err(format!(
+            "{name}: {} goals do not fit in memory",
+            values.len() / width
+        ))
+    })?;
     for (i, m) in values.chunks_exact(width).enumerate() {
         out.push(if pose {
             if m[12..16] != [0.0, 0.0, 0.0, 1.0] {
@@ -290,6 +300,12 @@ impl PyIkSolver {
         .map(|(n, name)| n.size(name, F));
         let (max_iterations, max_iterations_per_try, max_targets) =
             (max_iterations?, max_iterations_per_try?, max_targets?);
+        if max_targets > kinetree::kinematics::ik::MAX_TARGETS {
+            return Err(F.err(format!(
+                "max_targets = {max_targets} exceeds the limit of {} targets a solver is sized for",
+                kinetree::kinematics::ik::MAX_TARGETS
+            )));
+        }
         let max_restarts = max_restarts
             .map(|n| n.size("max_restarts", F))
             .transpose()?;
@@ -472,11 +488,12 @@ impl PyIkSolver {
         let (g, _) = self::goals(goals, "goals")?;
         let n = g.len();
         let nq = self.model.nq();
-        let starts = match self.q0(q0)? {
-            None => vec![self.start(None)?; 1],
+        // One start for every goal, or one per goal (stacked, row i for goal i).
+        let (starts, stacked) = match self.q0(q0)? {
+            None => (self.start(None)?, false),
             Some(s) => match s.count {
-                None => vec![s.values.into_vec()],
-                Some(m) if m == n => (0..n).map(|i| s.state(i).to_vec()).collect(),
+                None => (s.values.into_vec(), false),
+                Some(m) if m == n => (s.values.into_vec(), true),
                 Some(m) => return Err(F.err(format!("q0 stacks {m} states for {n} goals"))),
             },
         };
@@ -487,8 +504,12 @@ impl PyIkSolver {
             .clone();
         settings.build(&self.model).map_err(|e| to_py(&e, true))?;
         let model = &*self.model;
-        let mut q = vec![0.0; n * nq];
-        let mut info = vec![(false, 0.0, 0.0, 0usize); n];
+        let mut q = crate::arrays::reserve(n.saturating_mul(nq), "the solutions", F)?;
+        q.resize(n * nq, 0.0);
+        let mut info = Vec::new();
+        info.try_reserve_exact(n)
+            .map_err(|_| F.err(format!("the reports of {n} goals do not fit in memory")))?;
+        info.resize(n, (false, 0.0, 0.0, 0usize));
         let result = py.detach(|| {
             q.par_chunks_mut(nq.max(1))
                 .zip(info.par_iter_mut())
@@ -497,7 +518,11 @@ impl PyIkSolver {
                     || (settings.build(model), KinematicsData::new(model)),
                     |(solver, data), (i, (qi, out))| {
                         let solver = solver.as_mut().map_err(|e| (i, e.to_string()))?;
-                        let start = &starts[if starts.len() == 1 { 0 } else { i }];
+                        let start = if stacked {
+                            &starts[i * nq..(i + 1) * nq]
+                        } else {
+                            &starts[..]
+                        };
                         let r = solver
                             .solve(model, data, &target(f, g[i], weights), start)
                             .map_err(|e| (i, e.to_string()))?;

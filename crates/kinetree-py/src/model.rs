@@ -213,6 +213,15 @@ impl PyModel {
         kinds: Option<Vec<String>>,
         name: &str,
     ) -> PyResult<Self> {
+        // Refused before the rows are copied (a broadcast view of 10⁸ rows is small).
+        let limit = kinetree::model::dh::MAX_DH_ROWS;
+        if let Ok(n) = rows.len()
+            && n > limit
+        {
+            return Err(
+                Family::Model.err(format!("rows: {n} DH rows, more than the {limit} accepted"))
+            );
+        }
         let table = states(rows, "rows", 4, Family::Model)?;
         let n = table.count.unwrap_or(1);
         if let Some(k) = &kinds

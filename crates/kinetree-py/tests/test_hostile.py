@@ -226,7 +226,7 @@ def test_hostile_arguments_raise_or_give_finite_results(setup):
 
 
 def test_huge_sizes_are_refused_not_attempted(setup):
-    model, ws, _, _, _ = setup
+    model, ws, _, ik, _ = setup
     for fn, args, kwargs in [
         (model.random_configuration, [], {"n": 10**15}),
         (model.sample_workspace, ["panda_hand"], {"samples": 10**15}),
@@ -242,9 +242,17 @@ def test_huge_sizes_are_refused_not_attempted(setup):
         (model.simulate, [model.neutral(), np.zeros(model.nv)], {"steps": 10**15}),
         (model.link_placements, [many], {}),
         (model.frame_jacobian, [many, "panda_hand"], {}),
+        (ik.solve_batch, ["panda_hand", np.broadcast_to(np.eye(4), (10**9, 4, 4))], {}),
     ]:
         with pytest.raises(ValueError, match="do not fit in memory"):
             fn(*args, **kwargs)
+    # Sizes past a documented limit are refused by name before anything is allocated.
+    with pytest.raises(kinetree.IkError, match="max_targets = 1000000000 exceeds the limit of 256"):
+        kinetree.IkSolver(model, max_targets=10**9)
+    assert kinetree.IkSolver(model, max_targets=256) is not None
+    with pytest.raises(kinetree.ModelError, match="100000000 DH rows, more than the 10000 accepted"):
+        kinetree.Model.from_dh(np.broadcast_to(np.array([0.1, 0.0, 0.0, 0.0]), (10**8, 4)))
+    assert kinetree.Model.from_dh(np.full((10_000, 4), 0.01)).nq == 10_000
 
 
 

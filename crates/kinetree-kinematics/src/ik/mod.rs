@@ -55,7 +55,7 @@ mod step;
 mod target;
 
 pub use analytic::{IkSeeder, PlanarTwoLink, TwoLinkSeeder, TwoLinkSolutions};
-pub use params::IkParams;
+pub use params::{IkParams, MAX_TARGETS};
 pub use report::{IkIterate, IkReport, IkStatus};
 pub use solver::IkSolver;
 pub use target::IkTarget;

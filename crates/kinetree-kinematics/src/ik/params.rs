@@ -2,6 +2,11 @@
 
 use std::time::Duration;
 
+/// The most targets a solver is sized for: [`IkParams::max_targets`] is capped here. The
+/// solver's dense buffers grow with the square of six rows per target (256 targets: about
+/// 19 MB), and a request for 10⁹ would abort on the allocation.
+pub const MAX_TARGETS: usize = 256;
+
 /// Settings of an [`IkSolver`](super::IkSolver), fixed when it is built.
 ///
 /// The defaults solve 6- and 7-DoF arms from random starts to 1 µm and 10 µrad (see
@@ -45,7 +50,8 @@ pub struct IkParams {
     /// Seed of the random restarts. Each solve reseeds the generator, so a solve is reproducible
     /// (unless the time budget runs out first). Default 0.
     pub seed: u64,
-    /// Most targets one solve may take (the solver's buffers are sized for them). Default 4.
+    /// Most targets one solve may take (the solver's buffers are sized for them). Default 4;
+    /// the solver uses at least 1 and at most [`MAX_TARGETS`].
     pub max_targets: usize,
     /// How much one radian of orientation error counts against one metre of position error in
     /// the minimised cost (metres per radian), on top of each target's weights. It changes the

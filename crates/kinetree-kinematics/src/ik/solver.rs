@@ -21,7 +21,7 @@
 //!    seed, `q0`, then random configurations of the moving joints.
 
 use super::analytic::IkSeeder;
-use super::params::IkParams;
+use super::params::{IkParams, MAX_TARGETS};
 use super::report::{IkIterate, IkReport, IkStatus};
 use super::target::IkTarget;
 use crate::configuration::{sampling_range, wrap_angle};
@@ -91,10 +91,11 @@ impl fmt::Debug for IkSolver {
 
 impl IkSolver {
     /// A solver for `model` with `params`; allocates every buffer a solve needs (for up to
-    /// `params.max_targets` targets, at least 1).
+    /// `params.max_targets` targets, at least 1 and at most [`MAX_TARGETS`]: the parameters kept
+    /// say which).
     #[must_use]
     pub fn new(model: &Model, mut params: IkParams) -> Self {
-        params.max_targets = params.max_targets.max(1);
+        params.max_targets = params.max_targets.clamp(1, MAX_TARGETS);
         let mut bounds = vec![
             DofBound {
                 q: 0,
@@ -152,7 +153,7 @@ impl IkSolver {
 
     /// Replaces the parameters (reallocates the buffers when `max_targets` changes).
     pub fn set_params(&mut self, mut params: IkParams) {
-        params.max_targets = params.max_targets.max(1);
+        params.max_targets = params.max_targets.clamp(1, MAX_TARGETS);
         if params.max_targets != self.params.max_targets {
             self.ws = Workspace::new(self.nq, self.nv, self.nbodies, params.max_targets);
         }

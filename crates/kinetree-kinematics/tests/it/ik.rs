@@ -576,6 +576,27 @@ fn bad_inputs_are_typed_errors() {
         Err(KinematicsError::DimensionMismatch { .. })
     ));
     assert!(solver.solve(&model, &mut data, &good, &q0).is_ok());
+    // An absurd number of slots is capped (10⁹ aborted on the allocation), and still solves.
+    solver.set_params(IkParams {
+        max_targets: 1_000_000_000,
+        ..params()
+    });
+    assert_eq!(
+        solver.params().max_targets,
+        kinetree_kinematics::ik::MAX_TARGETS
+    );
+    let mut capped = IkSolver::new(
+        &model,
+        IkParams {
+            max_targets: usize::MAX,
+            ..params()
+        },
+    );
+    assert_eq!(
+        capped.params().max_targets,
+        kinetree_kinematics::ik::MAX_TARGETS
+    );
+    assert!(capped.solve(&model, &mut data, &good, &q0).is_ok());
 }
 
 #[test]
