@@ -104,6 +104,26 @@ fn simulate_uses_joint_dynamics_by_default_and_says_so() {
 }
 
 #[test]
+fn bench_aligns_its_table_for_long_names() {
+    let o = kinetree(&["bench", &panda(), "--calls", "20", "--repetitions", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    // Every timing line ends its number at the same column, the longest name included.
+    let rows: Vec<&str> = text.lines().filter(|l| l.starts_with("  ")).collect();
+    assert!(
+        rows.iter()
+            .any(|l| l.contains("joint_jacobians_without_links")),
+        "{text}"
+    );
+    assert!(rows.len() >= 12, "{text}");
+    assert!(
+        rows.iter()
+            .all(|l| l.chars().count() == rows[0].chars().count()),
+        "{text}"
+    );
+}
+
+#[test]
 fn bench_prints_stable_json_keys() {
     let o = kinetree(&[
         "bench",

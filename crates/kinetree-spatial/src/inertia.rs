@@ -71,15 +71,13 @@ impl Inertia {
     /// ([`Symmetric3::check_inertia`]).
     ///
     /// # Errors
-    /// The defect found; a negative mass is reported as [`InertiaDefect::NotPositive`].
+    /// The defect found; a negative mass is [`InertiaDefect::NegativeMass`].
     pub fn check(&self, tolerance: f64) -> Result<(), InertiaDefect> {
         if !self.is_finite() {
             return Err(InertiaDefect::NonFinite);
         }
         if self.mass < 0.0 {
-            return Err(InertiaDefect::NotPositive {
-                smallest_moment: self.mass,
-            });
+            return Err(InertiaDefect::NegativeMass { mass: self.mass });
         }
         self.rotational.check_inertia(tolerance)
     }
@@ -318,9 +316,11 @@ mod tests {
         let i = Inertia::point_mass(3.0, DVec3::new(0.0, 2.0, 0.0));
         let io = i.rotational_about(DVec3::ZERO);
         assert_eq!(io.to_urdf_array(), [12.0, 0.0, 0.0, 0.0, 0.0, 12.0]);
-        assert!(matches!(
-            Inertia::new(-1.0, DVec3::ZERO, Symmetric3::IDENTITY).check(1e-9),
-            Err(InertiaDefect::NotPositive { .. })
-        ));
+        // A negative mass is named as such (it was "not positive semi-definite").
+        let e = Inertia::new(-1.0, DVec3::ZERO, Symmetric3::IDENTITY)
+            .check(1e-9)
+            .unwrap_err();
+        assert_eq!(e, InertiaDefect::NegativeMass { mass: -1.0 });
+        assert_eq!(e.to_string(), "the mass -1 kg is negative");
     }
 }

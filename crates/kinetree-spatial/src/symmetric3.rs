@@ -40,6 +40,11 @@ pub enum InertiaDefect {
         /// The largest `|A_ij - A_ji|`.
         asymmetry: f64,
     },
+    /// The mass is negative.
+    NegativeMass {
+        /// The mass given, kg.
+        mass: f64,
+    },
     /// A principal moment is negative (or not positive when strict).
     NotPositive {
         /// The smallest principal moment.
@@ -56,6 +61,9 @@ impl fmt::Display for InertiaDefect {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::NonFinite => write!(f, "an inertia entry is not finite"),
+            Self::NegativeMass { mass } => {
+                write!(f, "the mass {} kg is negative", crate::Readable(*mass))
+            }
             Self::NotSymmetric { asymmetry } => {
                 write!(
                     f,

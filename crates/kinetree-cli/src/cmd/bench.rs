@@ -367,8 +367,13 @@ pub(crate) fn run(args: &Args) -> Result<()> {
             model.nv()
         )?;
         outln!("frame_jacobian is timed on '{}'", frame.name(&model)?)?;
+        let width = results
+            .iter()
+            .map(|(name, _)| name.len())
+            .max()
+            .unwrap_or(0);
         for (name, ns) in &results {
-            outln!("  {name:<18} {ns:>10.1}")?;
+            outln!("  {name:<width$} {ns:>10.1}")?;
         }
     }
     if let Some(name) = timings.interrupted {

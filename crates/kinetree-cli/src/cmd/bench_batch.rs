@@ -379,8 +379,14 @@ pub(crate) fn run(args: &super::bench::Args, model: &Model, n: usize) -> Result<
             model.nv()
         )?;
         outln!("frame_jacobian is timed on '{}'", setup.frame.name(model)?)?;
+        let width = rows
+            .iter()
+            .map(|r| r.name.len())
+            .chain([9])
+            .max()
+            .unwrap_or(9);
         outln!(
-            "  {:<16} {:>10} {:>10} {:>8} {:>12} {:>8}",
+            "  {:<width$} {:>10} {:>10} {:>8} {:>12} {:>8}",
             "algorithm",
             "one-state",
             "batched",
@@ -390,7 +396,7 @@ pub(crate) fn run(args: &super::bench::Args, model: &Model, n: usize) -> Result<
         )?;
         for r in &rows {
             outln!(
-                "  {:<16} {:>10.1} {:>10.1} {:>7.2}x {:>12.1} {:>7.2}x",
+                "  {:<width$} {:>10.1} {:>10.1} {:>7.2}x {:>12.1} {:>7.2}x",
                 r.name,
                 r.single,
                 r.batched,

@@ -102,6 +102,23 @@ pub(crate) fn parse_named_in(
     Ok(x)
 }
 
+/// The style of the CLI's progress bars, from an indicatif `template` that may use `{rate}`:
+/// the items per second as a whole number (indicatif's `{per_sec}` prints four decimals and
+/// thousands separators, `25,478.3167/s`).
+pub(crate) fn progress_style(template: &str) -> indicatif::ProgressStyle {
+    indicatif::ProgressStyle::with_template(template).map_or_else(
+        |_| indicatif::ProgressStyle::default_bar(),
+        |s| {
+            s.progress_chars("=> ").with_key(
+                "rate",
+                |state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                    let _ = w.write_fmt(format_args!("{:.0}/s", state.per_sec()));
+                },
+            )
+        },
+    )
+}
+
 /// The root attachment asked for by a `--floating` flag: `None` leaves it to the file.
 pub(crate) fn root_joint(floating: bool) -> Option<RootJoint> {
     floating.then_some(RootJoint::Floating)

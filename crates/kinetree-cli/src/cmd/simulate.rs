@@ -127,15 +127,9 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     let start = std::time::Instant::now();
     // Progress on a terminal (hidden otherwise), updated about 200 times.
     let bar = indicatif::ProgressBar::new(steps as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "simulating [{bar:40}] {pos}/{len} steps, {per_sec}, eta {eta}",
-        )
-        .map_or_else(
-            |_| indicatif::ProgressStyle::default_bar(),
-            |s| s.progress_chars("=> "),
-        ),
-    );
+    bar.set_style(super::progress_style(
+        "simulating [{bar:40}] {pos}/{len} steps, {rate}, eta {eta}",
+    ));
     let tick = (steps / 200).max(1);
     // Ctrl-C stops after the current step; what was simulated is still reported and written.
     crate::interrupt::watch();

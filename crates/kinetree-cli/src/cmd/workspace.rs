@@ -7,7 +7,7 @@
 
 use crate::plot::workspace::{Caption, cloud_svg};
 use anyhow::{Context, Result, bail};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use kinetree::kinematics::FrameId;
 use kinetree::spatial::DVec3;
 use kinetree::workspace::{
@@ -176,15 +176,9 @@ fn report_to(args: &Args, out: &mut dyn std::io::Write) -> Result<()> {
         .build()
         .context("cannot start the worker threads")?;
     let bar = ProgressBar::new(0);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} sampling [{bar:40}] {pos}/{len} samples, {per_sec}, eta {eta}",
-        )
-        .map_or_else(
-            |_| ProgressStyle::default_bar(),
-            |s| s.progress_chars("=> "),
-        ),
-    );
+    bar.set_style(super::progress_style(
+        "{spinner} sampling [{bar:40}] {pos}/{len} samples, {rate}, eta {eta}",
+    ));
     let progress = |done: usize, total: usize| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);

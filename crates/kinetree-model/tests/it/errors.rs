@@ -122,10 +122,15 @@ fn a_negative_mass() {
            <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>"#,
     );
     assert!(
-        matches!(e.issues(), [Issue::InvalidInertia { link, mass, .. }] if link == "lead" && *mass == -2.0),
+        matches!(e.issues(), [Issue::InvalidInertia { link, mass, defect: InertiaDefect::NegativeMass { mass: m } }] if link == "lead" && *mass == -2.0 && *m == -2.0),
         "{e}"
     );
-    assert!(e.to_string().contains("link 'lead'"), "{e}");
+    // Said as it is (it was "not positive semi-definite (principal moment -2e0)").
+    assert!(
+        e.to_string().contains("link 'lead'")
+            && e.to_string().contains("the mass -2 kg is negative"),
+        "{e}"
+    );
     // JSON goes through the same checks.
     let e = json_err(
         r#"{"links": [{"name": "lead", "inertial": {"mass": -2, "inertia": {"ixx": 1, "iyy": 1, "izz": 1}}}]}"#,

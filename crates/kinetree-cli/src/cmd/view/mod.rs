@@ -83,7 +83,7 @@ pub(crate) struct Args {
     /// The initial configuration `name=value,…` (neutral otherwise).
     #[arg(long)]
     q: Option<String>,
-    /// A reachable-workspace point cloud to overlay (`kinetree workspace --ply`).
+    /// A reachable-workspace point cloud to overlay (`kinetree workspace --out cloud.ply`).
     #[arg(long)]
     workspace: Option<PathBuf>,
     /// A trajectory to play back (`kinetree simulate --out traj.json`).
