@@ -366,3 +366,43 @@ fn an_unknown_field_in_a_compute_states_file_is_refused() {
     let o = kinetree(&["compute", &panda(), "--states", states.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
+
+#[test]
+fn a_neutral_start_outside_the_limits_is_said_and_clamped() {
+    // The Panda's joint 4 has limits [-3.0718, -0.0698]: its neutral value 0 is outside.
+    let o = kinetree(&[
+        "ik",
+        &panda(),
+        "--frame",
+        "panda_hand",
+        "--target",
+        "0.4,0.1,0.5",
+        "--position-only",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("neutral configuration is outside the joint limits"),
+        "{}",
+        stderr(&o)
+    );
+    let text = stdout(&o);
+    assert!(text.starts_with("status: converged"), "{text}");
+    // The count of restarts agrees with its noun.
+    assert!(
+        text.contains(" 1 restart,") || text.contains(" 0 restarts,"),
+        "{text}"
+    );
+    // collide computes at the state it is given, and says when it is outside the limits.
+    let o = kinetree(&["collide", &panda()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "the neutral configuration puts joint 'panda_joint4' at 0, outside its limits"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    let o = kinetree(&["collide", &panda(), "--q", "panda_joint4=-1.5"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("outside its limits"), "{}", stderr(&o));
+}

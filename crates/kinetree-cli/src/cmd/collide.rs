@@ -52,6 +52,12 @@ pub(crate) struct Args {
 pub(crate) fn run(args: &Args) -> Result<()> {
     let model = super::load_model(&args.model, super::root_joint(args.floating))?;
     let q = super::parse_named_in(&model, args.q.as_deref(), false, args.units)?;
+    let given = if args.q.is_some() {
+        "--q"
+    } else {
+        "the neutral configuration"
+    };
+    super::note_outside_limits(&model, &q, given);
     let (scale, unit) = (
         args.units.units().length.per_meter(),
         args.units.units().length.as_str(),

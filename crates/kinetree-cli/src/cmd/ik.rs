@@ -34,7 +34,8 @@ pub(crate) struct Args {
     /// seed: the command has no wall-clock budget, its 10 000-step budget bounds a solve).
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Start configuration `name=value,…` (neutral otherwise).
+    /// Start configuration `name=value,…` (otherwise the neutral configuration, clamped into the
+    /// joint limits).
     #[arg(long)]
     start: Option<String>,
     /// Print one JSON object instead of text.
@@ -88,7 +89,20 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         };
         IkTarget::new(frame, Se3::new(rotation, position))
     };
-    let q0 = super::parse_named_in(&model, args.start.as_deref(), false, args.units)?;
+    let mut q0 = super::parse_named_in(&model, args.start.as_deref(), false, args.units)?;
+    if args.start.is_some() {
+        super::note_outside_limits(&model, &q0, "--start");
+    } else {
+        // The neutral configuration can lie outside the limits (the Panda's joint 4): start from
+        // the nearest configuration within them instead.
+        let neutral = q0.clone();
+        kinetree::kinematics::configuration::clamp(&model, &mut q0)?;
+        if neutral != q0 {
+            eprintln!(
+                "note: the neutral configuration is outside the joint limits; starting from it clamped into them"
+            );
+        }
+    }
     // No wall-clock budget: a budget makes the answer depend on the machine's load (the same
     // command could print another solution when the machine is busy).
     let params = IkParams {
@@ -156,11 +170,12 @@ pub(crate) fn run(args: &Args) -> Result<()> {
     } else {
         outln!("status: {status}")?;
         outln!(
-            "position error {:.3e} {length_unit}, orientation error {:.3e} {angle_unit}, {} iterations, {} restarts, {:.1} µs",
+            "position error {:.3e} {length_unit}, orientation error {:.3e} {angle_unit}, {} iterations, {} restart{}, {:.1} µs",
             position_error,
             orientation_error,
             report.iterations,
             report.restarts,
+            if report.restarts == 1 { "" } else { "s" },
             report.elapsed.as_secs_f64() * 1e6
         )?;
         outln!("q:")?;

@@ -102,6 +102,29 @@ pub(crate) fn parse_named_in(
     Ok(x)
 }
 
+/// Says on standard error which coordinates of `q` (SI) lie outside their joint's position
+/// limits, as `what` gives them ("the neutral configuration", "--q"): an answer computed there
+/// is for a state the robot cannot take, and a user should not find out by accident.
+pub(crate) fn note_outside_limits(model: &Model, q: &[f64], what: &str) {
+    for b in model.bodies().iter().skip(1) {
+        let Some(j) = b.joint else { continue };
+        let lim = &model.joint(j).limits;
+        if !b.kind.has_position_limits() || lim.lower >= lim.upper {
+            continue;
+        }
+        for &x in &q[b.idx_q..b.idx_q + b.nq] {
+            if x < lim.lower || x > lim.upper {
+                eprintln!(
+                    "note: {what} puts joint '{}' at {x}, outside its limits [{}, {}]",
+                    model.joint(j).name,
+                    lim.lower,
+                    lim.upper
+                );
+            }
+        }
+    }
+}
+
 /// The style of the CLI's progress bars, from an indicatif `template` that may use `{rate}`:
 /// the items per second as a whole number (indicatif's `{per_sec}` prints four decimals and
 /// thousands separators, `25,478.3167/s`).
