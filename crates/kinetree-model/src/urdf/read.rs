@@ -111,11 +111,26 @@ pub(crate) fn from_urdf(
     let root = options.root_joint;
     let Scan {
         ignored,
+        bad_numbers,
         textures,
         xacro,
     } = scan_xml(text, file.as_deref())?;
     if let Some(element) = xacro {
         return Err(xacro_error(file, &format!("it has a <{element}> element")));
+    }
+    // (Unexpanded xacro expressions are reported as such below.)
+    let xacro_expressions = text.contains("${") || text.contains("$(");
+    if !bad_numbers.is_empty() && !xacro_expressions {
+        return Err(ModelError::Urdf {
+            file,
+            message: format!(
+                "{} numeric attribute{} do{} not read as numbers: {}",
+                bad_numbers.len(),
+                if bad_numbers.len() == 1 { "" } else { "s" },
+                if bad_numbers.len() == 1 { "es" } else { "" },
+                bad_numbers.join("; ")
+            ),
+        });
     }
     let sanitized;
     let text = if textures.is_empty() {
@@ -321,6 +336,9 @@ fn convert_joint(j: &urdf_rs::Joint) -> JointSpec {
 struct Scan {
     /// Human-readable descriptions of the elements kinetree does not model.
     ignored: Vec<String>,
+    /// Every numeric attribute of a link, joint or material that does not read as its numbers,
+    /// located (urdf-rs stops at the first, names no element, and drops a vector's bad tokens).
+    bad_numbers: Vec<String>,
     /// Byte ranges of the `<texture>` elements, to be removed before urdf-rs parses the text.
     textures: Vec<std::ops::Range<usize>>,
     /// The first `<xacro:…>` element, if any: the file is xacro source, not a URDF.
@@ -350,6 +368,7 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Scan, ModelError> {
     let mut stack: Vec<(String, Option<String>)> = Vec::new();
     let mut saw_robot = false;
     let mut xacro = None;
+    let mut bad_numbers = Vec::new();
     loop {
         let event_start = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
         let event = reader.read_event().map_err(|e| {
@@ -404,6 +423,33 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Scan, ModelError> {
             }
             _ => {}
         }
+        // The numbers of links, joints and materials (not of extension blocks like <gazebo>).
+        if matches!(stack.get(1), Some((t, _)) if matches!(t.as_str(), "link" | "joint" | "material"))
+        {
+            for (attr, count) in numeric_attributes(&tag) {
+                let Ok(Some(value)) = s.try_get_attribute(*attr) else {
+                    continue;
+                };
+                let value = value.unescape_value().map(|v| v.into_owned());
+                let value = value.unwrap_or_default();
+                let tokens: Vec<&str> = value.split_whitespace().collect();
+                if tokens.len() != *count || tokens.iter().any(|t| t.parse::<f64>().is_err()) {
+                    let (line, column) = line_column(text, event_start);
+                    let owner = stack
+                        .get(1)
+                        .map(|(t, n)| format!(" of {t} '{}'", n.as_deref().unwrap_or("?")))
+                        .unwrap_or_default();
+                    let what = if *count == 1 {
+                        "a number".to_string()
+                    } else {
+                        format!("{count} numbers")
+                    };
+                    bad_numbers.push(format!(
+                        "line {line}, column {column}: <{tag} {attr}=\"{value}\">{owner} is not {what}"
+                    ));
+                }
+            }
+        }
         if tag == "texture" && open_texture.is_none() && stack.len() >= 2 {
             // Textures are not modelled; urdf-rs rejects some valid ones, so they are cut out.
             let material = match stack.last() {
@@ -443,9 +489,36 @@ fn scan_xml(text: &str, file: Option<&Path>) -> Result<Scan, ModelError> {
     }
     Ok(Scan {
         ignored,
+        bad_numbers,
         textures,
         xacro,
     })
+}
+
+/// The numeric attributes of URDF element `tag` and how many numbers each holds.
+fn numeric_attributes(tag: &str) -> &'static [(&'static str, usize)] {
+    match tag {
+        "origin" => &[("xyz", 3), ("rpy", 3)],
+        "axis" => &[("xyz", 3)],
+        "box" => &[("size", 3)],
+        "mesh" => &[("scale", 3)],
+        "color" => &[("rgba", 4)],
+        "limit" => &[("lower", 1), ("upper", 1), ("effort", 1), ("velocity", 1)],
+        "mass" => &[("value", 1)],
+        "inertia" => &[
+            ("ixx", 1),
+            ("ixy", 1),
+            ("ixz", 1),
+            ("iyy", 1),
+            ("iyz", 1),
+            ("izz", 1),
+        ],
+        "cylinder" | "capsule" => &[("radius", 1), ("length", 1)],
+        "sphere" => &[("radius", 1)],
+        "dynamics" => &[("damping", 1), ("friction", 1)],
+        "mimic" => &[("multiplier", 1), ("offset", 1)],
+        _ => &[],
+    }
 }
 
 /// The error for xacro source given as a URDF: `why` says what gave it away.
@@ -477,6 +550,42 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 mod tests {
     use super::*;
     use crate::ModelBuilder;
+
+    #[test]
+    fn every_attribute_that_is_not_its_numbers_is_named_with_its_line() {
+        let urdf = r#"<robot name="r">
+  <link name="a"><inertial><mass value="one"/>
+    <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+  <link name="b"/>
+  <joint name="j" type="revolute"><parent link="a"/><child link="b"/>
+    <origin xyz="0 abc 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="abc" upper="1" effort="1" velocity="1"/></joint>
+  <gazebo><origin xyz="not checked"/></gazebo>
+</robot>"#;
+        let e = from_urdf(urdf, &LoadOptions::default(), None).unwrap_err();
+        let text = e.to_string();
+        for needle in [
+            "3 numeric attributes do not read as numbers",
+            "line 2, column 28: <mass value=\"one\"> of link 'a' is not a number",
+            // urdf-rs dropped the bad token and read (0, 0, 0).
+            "line 6, column 5: <origin xyz=\"0 abc 0 0\"> of joint 'j' is not 3 numbers",
+            "line 7, column 5: <limit lower=\"abc\"> of joint 'j' is not a number",
+        ] {
+            assert!(text.contains(needle), "{needle:?} in {text}");
+        }
+        assert!(!text.contains("not checked"), "{text}");
+        // The same document with its numbers fixed loads.
+        let fixed = urdf
+            .replace("\"one\"", "\"1\"")
+            .replace("0 abc 0 0", "0 0 0")
+            .replace("lower=\"abc\"", "lower=\"-1\"");
+        assert_eq!(
+            from_urdf(&fixed, &LoadOptions::default(), None)
+                .unwrap()
+                .nq(),
+            1
+        );
+    }
 
     #[test]
     fn deep_nesting_is_refused_before_urdf_rs_recurses_into_it() {
