@@ -20,7 +20,9 @@ impl FrameId {
     /// frame called `ORIGIN` ([`kinetree_model::ORIGIN_FRAME`]).
     ///
     /// # Errors
-    /// [`KinematicsError::UnknownFrame`] when neither exists.
+    /// [`KinematicsError::AmbiguousFrame`] for a bare frame name that several links' frames
+    /// share (listing each as `link/frame`), [`KinematicsError::UnknownFrame`] when neither
+    /// exists.
     pub fn find(model: &Model, name: &str) -> Result<FrameId, KinematicsError> {
         let origin_of = |name: &str| {
             let part = name
@@ -33,8 +35,24 @@ impl FrameId {
             .map(FrameId::Link)
             .or_else(|| model.frame_index(name).map(FrameId::Frame))
             .or_else(|| origin_of(name))
-            .ok_or_else(|| KinematicsError::UnknownFrame {
-                name: name.to_string(),
+            .ok_or_else(|| {
+                // A bare name that several links' frames share is kept only as `link/frame`.
+                let candidates: Vec<String> = model
+                    .frames()
+                    .iter()
+                    .filter(|f| f.name == name)
+                    .map(|f| format!("{}/{}", model.links()[f.link].name, f.name))
+                    .collect();
+                if candidates.len() > 1 {
+                    KinematicsError::AmbiguousFrame {
+                        name: name.to_string(),
+                        candidates,
+                    }
+                } else {
+                    KinematicsError::UnknownFrame {
+                        name: name.to_string(),
+                    }
+                }
             })
     }
 

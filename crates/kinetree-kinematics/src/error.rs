@@ -95,6 +95,14 @@ pub enum KinematicsError {
         /// nv of the model passed in.
         model_nv: usize,
     },
+    /// Several links carry a frame of this name: it must be given as `link/frame`.
+    #[error("'{name}' is ambiguous: {} links have a frame of that name; give one of {}", .candidates.len(), .candidates.join(", "))]
+    AmbiguousFrame {
+        /// The name as given.
+        name: String,
+        /// Each frame of that name as `link/frame`.
+        candidates: Vec<String>,
+    },
     /// No link or frame has this name.
     #[error("unknown link or frame '{name}'")]
     UnknownFrame {

@@ -75,3 +75,44 @@ fn out_of_range_frame_ids_are_errors() {
     assert!(good.check(&model).is_ok());
     assert!(data.world_from(good).is_ok());
 }
+
+#[test]
+fn a_frame_name_two_links_share_is_ambiguous_and_lists_the_choices() {
+    use kinetree_kinematics::model::Model;
+    // Two parts with a frame MOUNT each (as a yapCAD assembly has), and one unique frame.
+    let model = Model::from_json_str(
+        r#"{"name": "two", "links": [{"name": "a"}, {"name": "b"}],
+            "joints": [{"name": "ab", "type": "revolute", "parent": "a", "child": "b",
+                        "axis": [0, 0, 1], "limits": {"lower": -1, "upper": 1}}],
+            "frames": [{"name": "MOUNT", "link": "a", "origin": {"xyz": [0, 0, 0.1]}},
+                       {"name": "MOUNT", "link": "b", "origin": {"xyz": [0, 0, 0.2]}},
+                       {"name": "TIP", "link": "b", "origin": {"xyz": [1, 0, 0]}}]}"#,
+        None,
+    )
+    .unwrap();
+    let m = &model;
+    let e = FrameId::find(m, "MOUNT").unwrap_err();
+    match &e {
+        KinematicsError::AmbiguousFrame { name, candidates } => {
+            assert_eq!(name, "MOUNT");
+            assert_eq!(candidates, &["a/MOUNT", "b/MOUNT"]);
+        }
+        other => panic!("expected AmbiguousFrame, got {other:?}"),
+    }
+    assert!(
+        e.to_string().contains("give one of a/MOUNT, b/MOUNT"),
+        "{e}"
+    );
+    // Each is reachable in full, and the unique frame by its bare name.
+    let a = FrameId::find(m, "a/MOUNT").unwrap();
+    let b = FrameId::find(m, "b/MOUNT").unwrap();
+    assert_ne!(a, b);
+    assert_eq!(
+        FrameId::find(m, "TIP").unwrap(),
+        FrameId::find(m, "b/TIP").unwrap()
+    );
+    assert!(matches!(
+        FrameId::find(m, "NOWHERE"),
+        Err(KinematicsError::UnknownFrame { .. })
+    ));
+}
