@@ -406,3 +406,21 @@ fn a_neutral_start_outside_the_limits_is_said_and_clamped() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stderr(&o).contains("outside its limits"), "{}", stderr(&o));
 }
+
+#[test]
+fn floating_says_when_it_has_no_effect() {
+    // A yapCAD assembly attaches its root part to the world by its own joint.
+    let yap = data("yapcad/yap_arm.yapcad.json");
+    let o = kinetree(&["inspect", &yap, "--floating"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--floating has no effect on") && stderr(&o).contains("yap_arm"),
+        "{}",
+        stderr(&o)
+    );
+    // A URDF gets its floating root joint, and no note.
+    let o = kinetree(&["inspect", &panda(), "--floating"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("root_joint"), "{}", stdout(&o));
+    assert!(!stderr(&o).contains("no effect"), "{}", stderr(&o));
+}

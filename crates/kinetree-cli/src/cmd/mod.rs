@@ -28,7 +28,22 @@ use std::path::Path;
 /// The loader's error, with context naming the file.
 pub(crate) fn load_model(path: &Path, root: impl Into<Option<RootJoint>>) -> Result<Model> {
     check_model_file(path)?;
-    Model::from_file(path, root).with_context(|| format!("cannot load {}", path.display()))
+    let root = root.into();
+    let model =
+        Model::from_file(path, root).with_context(|| format!("cannot load {}", path.display()))?;
+    // A model whose roots are attached to the world by their own joints (yapCAD assemblies,
+    // JSON with "parent": "world") gets no floating joint: say so rather than ignore the flag.
+    if root == Some(RootJoint::Floating)
+        && model
+            .joint_index(kinetree::model::ROOT_JOINT_NAME)
+            .is_none()
+    {
+        eprintln!(
+            "note: --floating has no effect on {}: its roots are attached to the world by their own joints",
+            path.display()
+        );
+    }
+    Ok(model)
 }
 
 /// The largest model file read unless `KINETREE_MAX_MODEL_BYTES` says otherwise (256 MiB: a
