@@ -201,3 +201,40 @@ fn datums_resolve_on_their_own_and_reload_into_a_live_chain() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn an_assembly_rooted_on_the_world_converts_to_urdf_through_a_world_link() {
+    use kinetree_kinematics::model::RootJoint;
+    let chain = Model::from_yapcad_file(data("yap_arm.yapcad.json")).unwrap();
+    let model = &chain.model;
+    let urdf = model.to_urdf_string().unwrap();
+    assert!(urdf.contains("<link name=\"world\"/>"), "{urdf}");
+    assert!(urdf.contains("<parent link=\"world\"/>"), "{urdf}");
+    let back = Model::from_urdf_str(&urdf, RootJoint::Fixed).unwrap();
+    assert_eq!(back.links().len(), model.links().len() + 1);
+    assert_eq!(back.nq(), model.nq());
+    // The same pose of every part at the exported joint values, joint by joint name.
+    let mut q = vec![0.0; back.nq()];
+    for (j, joint) in model.joints().iter().enumerate() {
+        let r = model.joint_q_range(j);
+        if r.is_empty() {
+            continue;
+        }
+        let k = back.joint_index(&joint.name).unwrap();
+        q[back.joint_q_range(k)].copy_from_slice(&chain.q[r]);
+    }
+    let (mut a, mut b) = (KinematicsData::new(model), KinematicsData::new(&back));
+    forward_kinematics(model, &mut a, &chain.q).unwrap();
+    forward_kinematics(&back, &mut b, &q).unwrap();
+    for (l, link) in model.links().iter().enumerate() {
+        let there = b.world_from_link()[back.link_index(&link.name).unwrap()];
+        let here = a.world_from_link()[l];
+        assert!(
+            (there.translation - here.translation).length() < 1e-12,
+            "{}",
+            link.name
+        );
+        let r = (there.rotation - here.rotation).to_cols_array();
+        assert!(r.iter().all(|x| x.abs() < 1e-12), "{}", link.name);
+    }
+}

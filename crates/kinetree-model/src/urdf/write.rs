@@ -122,9 +122,18 @@ fn limit(out: &mut String, j: &Joint, v1_2: bool) {
     let _ = writeln!(out, "    <limit{attrs}/>");
 }
 
+/// The root link a URDF gets when the model's root is attached to the world by a joint of its
+/// own.
+const WORLD_LINK: &str = "world";
+
 impl Model {
     /// Writes the model as a URDF document that [`Model::from_urdf_str`] reads back to the same
     /// model (see the [module docs](crate::urdf) for what URDF cannot hold).
+    ///
+    /// A root attached to the world by a joint of its own (a yapCAD assembly's root part) is
+    /// written with a massless root link named `world` holding that joint, as ROS does; it reads
+    /// back with that extra link and the same kinematics and dynamics. Several such roots have
+    /// no URDF form.
     ///
     /// URDF has no composite joint ([`crate::composite`]): a composite joint is written expanded,
     /// as its elementary pieces (`NAME.rz`, …) and massless virtual links (`NAME#1`, …), which
@@ -132,7 +141,8 @@ impl Model {
     /// to keep it one joint.
     ///
     /// # Errors
-    /// [`ModelError::UnsupportedJoint`] naming the first cylindrical joint.
+    /// [`ModelError::UnsupportedJoint`] naming the first cylindrical joint;
+    /// [`ModelError::Unsupported`] for several roots attached to the world.
     ///
     /// # Examples
     /// ```
@@ -147,27 +157,37 @@ impl Model {
     /// # }
     /// ```
     pub fn to_urdf_string(&self) -> Result<String, ModelError> {
-        // The floating root joint has no parent link: it is a load option, not written. Other
-        // world-attached joints (several roots) have no URDF form: a URDF has one root link.
-        if let Some(j) = self
+        // The floating root joint has no parent link: it is a load option, not written. One
+        // other world-attached joint (a yapCAD assembly's root part) is written from a massless
+        // root link named `world`, as ROS does; several have no URDF form (one root link).
+        let world_joints: Vec<&Joint> = self
             .joints()
             .iter()
             .enumerate()
-            .find(|&(i, j)| j.parent_link.is_none() && !self.is_floating_root_joint(i))
-        {
-            return Err(ModelError::Unsupported {
-                format: "URDF",
-                what: format!(
-                    "joint '{}' attaches link '{}' to the world datum (a URDF has a single root link)",
-                    j.1.name,
-                    self.link(j.1.child_link).name
-                ),
-            });
-        }
+            .filter(|&(i, j)| j.parent_link.is_none() && !self.is_floating_root_joint(i))
+            .map(|(_, j)| j)
+            .collect();
+        let world_link = match world_joints.as_slice() {
+            [] => false,
+            [_] if self.link_index(WORLD_LINK).is_none() => true,
+            [j, ..] => {
+                return Err(ModelError::Unsupported {
+                    format: "URDF",
+                    what: format!(
+                        "joint '{}' attaches link '{}' to the world datum beside {} other root{} (a URDF has a single root link)",
+                        j.name,
+                        self.link(j.child_link).name,
+                        world_joints.len() - 1,
+                        if world_joints.len() == 2 { "" } else { "s" }
+                    ),
+                });
+            }
+        };
         let joints: Vec<&Joint> = self
             .joints()
             .iter()
             .filter(|j| j.parent_link.is_some())
+            .chain(world_link.then(|| world_joints[0]))
             .collect();
         if let Some(j) = joints.iter().find(|j| j.kind == JointKind::Cylindrical) {
             return Err(ModelError::UnsupportedJoint {
@@ -180,6 +200,9 @@ impl Model {
         let mut out = String::from("<?xml version=\"1.0\"?>\n<!-- written by kinetree -->\n");
         let version = if v1_2 { " version=\"1.2\"" } else { "" };
         let _ = writeln!(out, "<robot name=\"{}\"{version}>", escape(self.name()));
+        if world_link {
+            let _ = writeln!(out, "  <link name=\"{WORLD_LINK}\"/>");
+        }
         for link in self.links() {
             let name = escape(link.name.as_str());
             if link.inertial.is_none() && link.visuals.is_empty() && link.collisions.is_empty() {
@@ -234,8 +257,9 @@ impl Model {
             let _ = writeln!(out, "  </link>");
         }
         for j in joints {
-            let Some(parent) = j.parent_link else {
-                continue;
+            let parent = match j.parent_link {
+                Some(p) => self.link(p).name.as_str(),
+                None => WORLD_LINK,
             };
             let _ = writeln!(
                 out,
@@ -247,7 +271,7 @@ impl Model {
             let _ = writeln!(
                 out,
                 "    <parent link=\"{}\"/>\n    <child link=\"{}\"/>",
-                escape(self.link(parent).name.as_str()),
+                escape(parent),
                 escape(self.link(j.child_link).name.as_str())
             );
             // URDF's default axis is x; kinds without an axis keep whatever was read.
