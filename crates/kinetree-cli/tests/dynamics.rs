@@ -349,3 +349,36 @@ fn simulate_reports_limit_violations_and_stops_at_the_limits() {
     ]);
     assert!(!o.status.success() && stderr(&o).contains("bounce"));
 }
+
+#[test]
+fn simulate_writes_every_joint_that_owns_coordinates_mimic_followers_included() {
+    // The Panda's second finger mimics the first; loaded independent (the default) it owns its
+    // coordinate, which the trajectory dropped (so `view --trajectory` played it at neutral).
+    let dir = scratch("simulate_mimic");
+    let out = dir.join("trajectory.json");
+    let o = kinetree(&[
+        "simulate",
+        &panda(),
+        "--duration",
+        "0.01",
+        "--dt",
+        "1e-3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let first = &doc["trajectory"][0]["q"];
+    let names: Vec<&str> = first
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(names.len(), 9, "{names:?}");
+    assert!(
+        names.contains(&"panda_finger_joint2") && names.contains(&"panda_finger_joint1"),
+        "{names:?}"
+    );
+}

@@ -222,12 +222,10 @@ pub(crate) fn run(args: &Args) -> Result<()> {
         let trajectory: Vec<serde_json::Value> = samples
             .iter()
             .map(|(t, q)| {
+                // Every joint that owns coordinates: independent mimic joints included (a
+                // coupled follower owns none and follows its leader on playback).
                 let by_name: serde_json::Map<String, serde_json::Value> = model
                     .moving_user_joints()
-                    .filter(|&j| {
-                        let u = &model.user_joints()[j];
-                        u.composite.is_some() || model.joint(u.joints.start).mimic.is_none()
-                    })
                     .map(|j| {
                         let x = &q[model.user_joint_q_range(j)];
                         let value = if x.len() == 1 {
