@@ -8,6 +8,7 @@ use super::transpose::Io;
 use crate::error::check_q;
 use crate::jacobian::ReferenceFrame;
 use crate::joint::JointModel;
+use crate::joint::axis_column;
 use crate::joint::transform::rotate_about_axis;
 use kinetree_model::Model;
 use kinetree_model::spatial::lanes::{LMotion, LSe3, LVec3, LaneVec, Lanes};
@@ -324,30 +325,13 @@ fn to_reference<const L: usize>(
     }
 }
 
-/// The one subspace column of an axis-aligned joint moved by `x` (as `JointModel::act_axis`).
-#[inline(always)]
-fn act_axis<const L: usize>(x: &LSe3<L>, k: usize, revolute: bool) -> LMotion<L> {
-    let axis = x.rotation.col(k);
-    if revolute {
-        LMotion {
-            linear: x.translation.cross(&axis),
-            angular: axis,
-        }
-    } else {
-        LMotion {
-            linear: axis,
-            angular: LVec3::ZERO,
-        }
-    }
-}
-
 /// The subspace column of `term` moved by `x` (a world-frame Jacobian column when `x` is the
 /// body's world placement).
 #[inline(always)]
 fn column<const L: usize>(x: &LSe3<L>, term: &PathTerm) -> LMotion<L> {
     match term.axis {
-        a @ 0..3 => act_axis(x, usize::from(a), true),
-        a @ 3..6 => act_axis(x, usize::from(a - 3), false),
+        a @ 0..3 => axis_column(x, usize::from(a), true),
+        a @ 3..6 => axis_column(x, usize::from(a - 3), false),
         _ => x.act_motion(&LMotion::splat(&term.motion)),
     }
 }

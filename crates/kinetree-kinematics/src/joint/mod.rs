@@ -30,4 +30,5 @@ pub use lie_group::{
     difference_jacobians, difference_joint, integrate_jacobians, integrate_joint, wrap_angle,
 };
 pub use model::JointModel;
+pub(crate) use model::axis_column;
 pub use transform::{JointRot, sin_cos};

@@ -321,7 +321,7 @@ fn dot_const<T: Real>(a: DVec3, x: &T::V3) -> T {
 /// `x · S` for a joint about (`rev`) or along coordinate axis `a`: a column of `x`'s rotation,
 /// and for a turn the translation's cross product with it (no matrix product).
 #[inline(always)]
-fn axis_column<T: Real>(x: &Se3<T>, a: usize, rev: bool) -> Motion<T> {
+pub(crate) fn axis_column<T: Real>(x: &Se3<T>, a: usize, rev: bool) -> Motion<T> {
     let axis = x.rotation.col(a);
     if rev {
         Motion {
