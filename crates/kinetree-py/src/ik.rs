@@ -46,9 +46,9 @@ fn goals(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<Goal>, bool)> {
         })?;
     let shape = array.shape().to_vec();
     // A broadcast view of 10⁹ poses is small; its copy is not: refuse it instead of aborting.
+    // An overflowing element count asks for usize::MAX, which `reserve` refuses.
     let len = shape.iter().try_fold(1usize, |n, &k| n.checked_mul(k));
-    crate::arrays::fits(len, name, F)?;
-    let mut values = crate::arrays::reserve(len.unwrap_or(0), name, F)?;
+    let mut values = crate::arrays::reserve(len.unwrap_or(usize::MAX), name, F)?;
     values.extend(array.as_array().iter().copied());
     if let Some(k) = values.iter().position(|x| !x.is_finite()) {
         return Err(F.err(format!(
